@@ -1,0 +1,60 @@
+# grasp_pipeline — the two first commands: `make demo` and `make test`.
+# Each does its own set-up on a fresh Debian machine (root): apt packages, a .venv,
+# `pip install .` (builds the C++ extension), then runs. Idempotent: a second run
+# skips what is present.
+
+SHELL := /bin/bash
+PYTHON ?= python3
+VENV := .venv
+PY := $(VENV)/bin/python
+PIP := $(VENV)/bin/pip
+GTEST_BUILD := build/gtest
+JOBS ?= 2
+export MUJOCO_GL ?= egl
+
+APT_PACKAGES := build-essential cmake libpcl-dev libeigen3-dev libgtest-dev \
+	libegl1 libegl-mesa0 libgl1-mesa-dri libosmesa6 ffmpeg
+
+SOURCES := $(shell find cpp python sim config -type f -not -name '*.pyc' 2>/dev/null) \
+	CMakeLists.txt pyproject.toml
+
+.PHONY: demo test setup system-deps gtest pytest bench clean
+
+demo: setup
+	$(VENV)/bin/grasp-pipeline demo
+
+test: setup gtest pytest
+
+setup: system-deps $(VENV)/.installed
+
+# apt: only when a package is missing (dpkg -s answers for installed ones).
+system-deps:
+	@missing=""; for p in $(APT_PACKAGES); do dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
+	if [ -n "$$missing" ]; then \
+	  echo "installing Debian packages:$$missing"; \
+	  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $$missing; \
+	else echo "Debian packages present"; fi
+
+$(VENV)/bin/python:
+	$(PYTHON) -m venv $(VENV)
+	$(PIP) install -q --upgrade pip
+
+$(VENV)/.installed: $(VENV)/bin/python $(SOURCES)
+	@rm -f python/grasp_pipeline/_core*.so  # a dev build (scripts/dev_build_core.sh) must not ship
+	$(PIP) install -q ".[test]"
+	@touch $@
+
+gtest: system-deps
+	cmake -S . -B $(GTEST_BUILD) -DGRASP_BUILD_PYTHON=OFF -DGRASP_BUILD_TESTS=ON -DCMAKE_BUILD_TYPE=Release >/dev/null
+	cmake --build $(GTEST_BUILD) -j $(JOBS)
+	$(GTEST_BUILD)/grasp_core_tests --gtest_brief=1
+
+pytest: setup
+	$(PY) -m pytest -q tests/python
+
+bench: setup
+	$(PIP) install -q ".[test,bench]"
+	$(VENV)/bin/grasp-pipeline bench perception --frames 50 --json build/bench_perception.json
+
+clean:
+	rm -rf build $(VENV)

@@ -1,0 +1,107 @@
+// Bindings of SPEC 4 (tracker) and the per-frame Perception entry point.
+#include <pybind11/eigen.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+
+#include "array_input.hpp"
+#include "grasp_core/perception.hpp"
+#include "grasp_core/tracker.hpp"
+
+namespace py = pybind11;
+using namespace grasp_core;
+
+namespace grasp_bind {
+
+namespace {
+double finite_time(double t, const char* name) {
+  if (!std::isfinite(t)) throw py::value_error(std::string(name) + ": must be finite");
+  return t;
+}
+}  // namespace
+
+void bind_tracker(py::module_& m) {
+  py::class_<Track>(m, "Track", "One tracked object (smoothed estimate, best quality seen)")
+      .def_readonly("tid", &Track::tid)
+      .def_readonly("quality", &Track::quality)
+      .def_readonly("last_seen_s", &Track::last_seen_s)
+      .def_readonly("smoothed", &Track::smoothed)
+      .def_property_readonly("window_size", &Track::window_size);
+
+  py::class_<Tracker>(m, "Tracker", "SPEC 4 tracker")
+      .def(py::init([](const ObbParams& p) { p.validate(); return Tracker(p); }), py::arg("params"))
+      .def_static("gate_for", [](const std::vector<Vec3>& centres, double frac) {
+          if (!(frac > 0 && std::isfinite(frac))) throw py::value_error("frac: expected > 0");
+          for (const Vec3& c : centres)
+            if (!c.allFinite()) throw py::value_error("centres: must be finite");
+          return Tracker::gate_for(centres, frac);
+        }, py::arg("centres"), py::arg("frac"))
+      .def("prior_theta", [](const Tracker& t, const py::object& c, std::optional<double> gate) {
+          return t.prior_theta(vec3(c, "centre"), gate);
+        }, py::arg("centre"), py::arg("gate") = py::none())
+      .def("update", [](Tracker& t, const std::vector<ObjectEstimate>& ests,
+                        const std::vector<ViewQuality>& q, double now_s) {
+          if (q.size() != ests.size()) throw py::value_error("q: expected one quality per estimate");
+          return t.update(ests, q, finite_time(now_s, "now_s"));
+        }, py::arg("estimates"), py::arg("qualities"), py::arg("now_s"))
+      .def("retire", [](Tracker& t, double now_s) { t.retire(finite_time(now_s, "now_s")); }, py::arg("now_s"))
+      .def_property_readonly("tracks", &Tracker::tracks)
+      .def_property_readonly("last_gate", &Tracker::last_gate)
+      .def("reset", &Tracker::reset);
+
+  m.def("estimate_with_priors",
+        [](const std::vector<py::object>& clusters, const Plane& plane, const ObbParams& p,
+           const Tracker& tracker, std::optional<double> band) {
+          p.validate();
+          std::vector<PointsD> pts;
+          for (std::size_t i = 0; i < clusters.size(); ++i) {
+            const std::string name = "clusters[" + std::to_string(i) + "]";
+            pts.push_back(points_double(clusters[i], name.c_str()));
+          }
+          return estimate_with_priors(pts, plane, p, tracker, band);
+        },
+        py::arg("clusters"), py::arg("plane"), py::arg("params"), py::arg("tracker"),
+        py::arg("band") = py::none(), "SPEC 4 two-pass estimation of one frame's clusters.");
+}
+
+void bind_perception(py::module_& m) {
+  py::class_<PerceptionFrame>(m, "PerceptionFrame", "Everything perception produced for one frame")
+      .def_readonly("filter", &PerceptionFrame::filter)
+      .def_readonly("estimate_labels", &PerceptionFrame::estimate_labels)
+      .def_readonly("estimates", &PerceptionFrame::estimates)
+      .def_readonly("views", &PerceptionFrame::views)
+      .def_readonly("tids", &PerceptionFrame::tids)
+      .def_readonly("failed_labels", &PerceptionFrame::failed_labels)
+      .def_readonly("failures", &PerceptionFrame::failures)
+      .def_readonly("time_s", &PerceptionFrame::time_s)
+      .def_readonly("camera_position", &PerceptionFrame::camera_position)
+      .def_readonly("ms_estimate", &PerceptionFrame::ms_estimate)
+      .def_readonly("ms_track", &PerceptionFrame::ms_track)
+      .def_readonly("ms_total", &PerceptionFrame::ms_total);
+
+  py::class_<Perception>(m, "Perception",
+                         "Per-frame entry point: scene filter -> two-pass estimates -> view "
+                         "quality -> tracker, for one camera session")
+      .def(py::init<const SceneFilterParams&, const ObbParams&>(), py::arg("filter_params"),
+           py::arg("obb_params"))
+      .def("process",
+           [](Perception& self, const py::object& points, const py::object& camera_position,
+              double time_s) {
+             PointsView v = points_view(points, "points");
+             const Vec3 cam = vec3(camera_position, "camera_position");
+             py::gil_scoped_release release;
+             if (v.is_float)
+               return self.process(static_cast<const float*>(v.data), v.rows, v.row_stride, cam, time_s);
+             return self.process(static_cast<const double*>(v.data), v.rows, v.row_stride, cam, time_s);
+           },
+           py::arg("points"), py::arg("camera_position"), py::arg("time_s"),
+           "One (N,3) float32/float64 frame in world coordinates with the camera position at "
+           "capture and the capture time [s].")
+      .def_property_readonly("scene_filter", &Perception::scene_filter, py::return_value_policy::reference_internal)
+      .def_property_readonly("tracker", &Perception::tracker, py::return_value_policy::reference_internal)
+      .def("retire", [](Perception& p, double now_s) { p.retire(finite_time(now_s, "now_s")); }, py::arg("now_s"))
+      .def("reset", &Perception::reset);
+}
+
+}  // namespace grasp_bind

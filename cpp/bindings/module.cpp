@@ -1,0 +1,25 @@
+// pybind11 module grasp_pipeline._core — entry point; the bindings of each part live in
+// their own bind_*.cpp file. Input validation happens at this edge (array_input.hpp):
+// wrong shapes/dtypes/values raise TypeError/ValueError naming the argument; C++
+// std::invalid_argument becomes ValueError; nothing a caller passes may crash Python.
+#include <pybind11/pybind11.h>
+
+namespace py = pybind11;
+
+namespace grasp_bind {
+void bind_types(py::module_& m);
+void bind_scene_filter(py::module_& m);
+void bind_estimate(py::module_& m);
+void bind_tracker(py::module_& m);
+void bind_perception(py::module_& m);
+}  // namespace grasp_bind
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "grasp_pipeline perception core (C++17, Eigen, PCL): scene filter, object "
+            "estimates, grasp pose math, tracker, and the per-frame Perception entry point";
+  grasp_bind::bind_types(m);
+  grasp_bind::bind_scene_filter(m);
+  grasp_bind::bind_estimate(m);
+  grasp_bind::bind_tracker(m);
+  grasp_bind::bind_perception(m);
+}

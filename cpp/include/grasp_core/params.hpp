@@ -1,0 +1,61 @@
+// Parameter sets of the perception core, with SPEC's names and defaults.
+//
+// SceneFilterParams = SPEC 1.6, ObbParams = the perception part of SPEC 2.7
+// (estimate, guards and tracker). The Python side loads them from
+// config/scene_filter.yaml and config/obb.yaml; validate() is the single place
+// that rejects negative or absurd values, naming the parameter.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace grasp_core {
+
+struct SceneFilterParams {
+  double plane_dist_thresh = 0.008;      ///< inlier distance [m]
+  double plane_max_tilt_deg = 10.0;      ///< max normal angle from +z [deg]
+  int plane_ransac_iters = 200;          ///< RANSAC iterations per plane
+  int plane_fit_max_points = 4000;       ///< subsample size for the search
+  double plane_min_inlier_ratio = 0.15;  ///< acceptance within the subsample
+  int plane_max_count = 3;               ///< planes extracted per frame
+  double plane_dominance = 0.70;         ///< rho of SPEC 1.3
+  bool plane_lock = true;                ///< persistence state machine on/off
+  int plane_lock_after = 5;              ///< consistent frames before hardening
+  double plane_update_tol_deg = 5.0;     ///< "close" normal angle [deg]
+  double plane_update_tol_m = 0.03;      ///< "close" height difference [m]
+  int plane_init_frames = 30;            ///< frames without lock before falling back
+  double cluster_eps = 0.015;            ///< Euclidean clustering radius [m]
+  int cluster_min_points = 20;           ///< smaller components are noise
+  double cluster_min_extent = 0.01;      ///< min AABB diagonal [m]
+  double cluster_max_extent = 0.30;      ///< max AABB diagonal [m]; <= 0 disables
+  double band = 0.01;                    ///< band above the plane [m]
+  double cluster_voxel_m = 0.003;        ///< (ours) voxel leaf for clustering speed-up [m]; 0 = exact per point
+  std::uint64_t seed = 0;                ///< (ours) RNG seed: runs are reproducible
+
+  /// Throws std::invalid_argument naming the offending parameter.
+  void validate() const;
+};
+
+struct ObbParams {
+  double depth_noise_sigma = 0.002;     ///< sigma [m]
+  double top_slice_sigmas = 4.0;        ///< slice depth in sigmas
+  int top_slice_iters = 3;              ///< slice-median iterations
+  int n_theta = 361;                    ///< width-scan angles over [0, pi)
+  double width_tol_m = 0.002;           ///< candidate tolerance [m]
+  double isotropy_ratio_max = 1.10;     ///< yaw_defined threshold
+  double gripper_open = 0.08;           ///< max opening [m]
+  double min_graspable_width = 0.005;   ///< [m]
+  double min_height = 0.005;            ///< [m]
+  double resting_margin = 0.008;        ///< [m]
+  double side_seen_sigmas = 3.0;        ///< (ours) sides visible if d-span > this * sigma
+  int window = 7;                       ///< tracker median window [frames]
+  double assoc_gate_frac = 0.5;         ///< gate = frac * min pairwise distance
+  double max_age_s = 2.0;               ///< retirement of non-NADIR tracks [s]
+  double nadir_hold_s = 10.0;           ///< retirement of NADIR tracks [s]
+  double nadir_angle_max_deg = 5.0;     ///< NADIR threshold [deg]
+
+  /// Throws std::invalid_argument naming the offending parameter.
+  void validate() const;
+};
+
+}  // namespace grasp_core

@@ -1,0 +1,109 @@
+// SPEC 1.2–1.5 — the per-frame scene filter: sequential plane extraction, table choice
+// (dominance then height), band split, Euclidean clustering with extent filters, a label
+// for every input row, and the plane persistence that makes the table a session constant.
+#pragma once
+
+#include "grasp_core/clustering.hpp"
+#include "grasp_core/params.hpp"
+#include "grasp_core/plane_fit.hpp"
+#include "grasp_core/plane_persistence.hpp"
+#include "grasp_core/types.hpp"
+
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+namespace grasp_core {
+
+/// One plane of the sequential extraction (SPEC 1.2).
+struct PlaneCandidate {
+  Plane plane;                ///< refined plane (or the RANSAC model, see PlaneFit::refined)
+  int count_whole = 0;        ///< SPEC `count`: inliers |d| < plane_dist_thresh on the WHOLE frame cloud
+  int subsample_inliers = 0;  ///< inliers of the RANSAC model within the search subsample
+  int subsample_size = 0;     ///< size of that subsample
+  int removed = 0;            ///< points removed from the remainder (inliers of `plane` in it)
+  bool refined = false;       ///< PlaneFit::refined
+};
+
+/// SPEC 1.2 on the finite rows of a strided float array (row i at xyz + i*stride, stride >= 3).
+/// Plane k searches a subsample of at most plane_fit_max_points drawn without replacement,
+/// with a std::mt19937_64 seeded from (seed, k), from the points not yet assigned to a
+/// plane; accepted if the RANSAC model has >= plane_min_inlier_ratio x subsample size
+/// inliers in the subsample; its inliers (w.r.t. the plane kept) are removed from the whole
+/// remainder. Stops after plane_max_count planes, at the first rejected/absent model, or
+/// when fewer than 3 points remain.
+std::vector<PlaneCandidate> extract_planes(const float* xyz, std::size_t n_rows,
+                                           std::size_t row_stride_floats,
+                                           const SceneFilterParams& params, std::uint64_t seed);
+std::vector<PlaneCandidate> extract_planes(const PointsF& points, const SceneFilterParams& params,
+                                           std::uint64_t seed);
+std::vector<PlaneCandidate> extract_planes(const PointsD& points, const SceneFilterParams& params,
+                                           std::uint64_t seed);
+
+/// SPEC 1.3: among planes with count_whole >= dominance x max count_whole take the highest
+/// (largest height_m()); ties keep the earlier plane. Returns its index, or -1 if `planes`
+/// is empty.
+int choose_table(const std::vector<PlaneCandidate>& planes, double dominance);
+
+/// Everything the scene filter computed for one frame.
+struct SceneFilterResult {
+  /// One per INPUT row: kLabelInvalid (NaN/Inf row), kLabelEnvironment, or an accepted
+  /// object group id >= 0 (frame-local, compact 0..K-1, see euclidean_clusters()).
+  /// When environment_emitted is false (before the first lock) every valid row is
+  /// kLabelEnvironment but no environment cloud should be published.
+  std::vector<int> labels;
+  bool environment_emitted = false;  ///< false before the first lock unless the fallback fired
+  bool fallback = false;             ///< init-frames fallback: whole cloud is environment
+  std::optional<Plane> table;        ///< the plane used this frame (the lock), latched
+  std::optional<Plane> fit;          ///< this frame's own table fit (diagnostic)
+  double band = 0.0;                 ///< SPEC band [m] (session constant)
+  std::vector<PlaneCandidate> planes;   ///< all planes extracted this frame
+  int table_index = -1;              ///< index of the table in planes, -1 if none
+  int num_valid = 0;                 ///< finite rows
+  int num_invalid = 0;               ///< NaN/Inf rows (dropped)
+  int num_candidates = 0;            ///< valid points above the band (clustering input)
+  std::vector<int> cluster_ids;      ///< accepted object group ids this frame (ascending)
+  std::vector<ClusterInfo> clusters; ///< every component >= cluster_min_points (diagnostic)
+  PlaneDecision decision = PlaneDecision::kNoPlane;
+  PersistenceState persistence;      ///< lock state after this frame
+  std::vector<FrameEvent> events;    ///< log lines for the caller
+  double ms_plane = 0.0;             ///< plane extraction + table choice [ms]
+  double ms_cluster = 0.0;           ///< band split + clustering [ms]
+  double ms_total = 0.0;             ///< whole process() call [ms]
+};
+
+/// The per-frame scene filter (SPEC 1). Owns the plane persistence, so one instance per
+/// camera session. Frame k's plane search is seeded with (params.seed, k): a session is
+/// reproducible.
+class SceneFilter {
+ public:
+  /// Validates `params` (std::invalid_argument naming the parameter).
+  explicit SceneFilter(const SceneFilterParams& params);
+
+  /// Process one N x 3 frame in `world`. Row i starts at xyz + i * row_stride (in elements,
+  /// >= 3; a numpy (N,3) C-contiguous array has stride 3). No copy of the caller's array is
+  /// kept. Throws std::invalid_argument on stride < 3 or xyz == nullptr with n_rows > 0.
+  SceneFilterResult process(const float* xyz, std::size_t n_rows, std::size_t row_stride);
+  SceneFilterResult process(const double* xyz, std::size_t n_rows, std::size_t row_stride);
+  SceneFilterResult process(const PointsF& points);
+  SceneFilterResult process(const PointsD& points);
+
+  const PlanePersistence& persistence() const { return persistence_; }
+  const SceneFilterParams& params() const { return params_; }
+  int frame_index() const { return frame_index_; }
+  /// New session: forget the lock and restart frame numbering.
+  void reset();
+
+ private:
+  SceneFilterResult process_packed(const std::vector<float>& packed_xyz,
+                                   const std::vector<int>& valid_rows, std::size_t n_rows,
+                                   std::chrono::steady_clock::time_point t0);
+
+  SceneFilterParams params_;
+  PlanePersistence persistence_;
+  int frame_index_ = 0;
+};
+
+}  // namespace grasp_core

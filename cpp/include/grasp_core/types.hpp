@@ -1,0 +1,52 @@
+// Basic value types shared by every part of the perception core.
+//
+// Frames and conventions follow SPEC section 0: everything is in `world` (z up),
+// a plane is (n, c) with n.p + c = 0, |n| = 1 and n_z > 0, rotations have det +1.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <cstdint>
+#include <vector>
+
+namespace grasp_core {
+
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+
+/// N x 3 points, one point per row (row-major so a numpy (N,3) array maps onto it).
+using PointsF = Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>;
+using PointsD = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+
+/// Per-point label values used by the scene filter (object labels are >= 0).
+constexpr int kLabelInvalid = -2;      ///< NaN / Inf input row (dropped before processing)
+constexpr int kLabelEnvironment = -1;  ///< table, floor, walls, band, rejected clusters
+
+/// A plane n.p + c = 0 with |n| = 1 and n_z > 0.
+struct Plane {
+  Vec3 n = Vec3::UnitZ();
+  double c = 0.0;
+
+  /// Height where the plane meets the world z axis: h = -c / n_z  [m].
+  double height_m() const { return -c / n.z(); }
+  /// Signed distance of p (positive above the plane) [m].
+  double signed_distance(const Vec3& p) const { return n.dot(p) + c; }
+  /// Foot of the origin on the plane: -c * n.
+  Vec3 foot() const { return -c * n; }
+  /// Angle between the normal and world +z [deg].
+  double tilt_deg() const;
+  /// Rotation taking +z to n (the published plane orientation, det +1).
+  Mat3 rotation() const;
+};
+
+/// A rigid pose: x_world = R * x_local + t.
+struct Pose {
+  Mat3 R = Mat3::Identity();
+  Vec3 t = Vec3::Zero();
+};
+
+/// View quality of one observation (SPEC 3). Ordered: NADIR > OBLIQUE.
+enum class ViewQuality : int { OBLIQUE = 0, NADIR = 1 };
+
+}  // namespace grasp_core

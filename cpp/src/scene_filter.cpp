@@ -1,0 +1,275 @@
+// SPEC 1.2–1.5 — the per-frame scene filter. See scene_filter.hpp.
+//
+// Data path per frame (no PCL cloud of the whole frame is ever built):
+//   1. one pass over the caller's strided rows: drop NaN/Inf, pack the valid points as
+//      contiguous floats (x y z x y z ...);
+//   2. sequential extraction: each plane searches a <= plane_fit_max_points subsample
+//      (PCL RANSAC, plane_fit.cpp), then one tight loop counts its inliers on the whole
+//      packed cloud and another drops them from the remainder;
+//   3. table choice, persistence update;
+//   4. band split into a packed candidate array, Euclidean clustering (clustering.cpp),
+//      labels mapped back to the input rows.
+#include "grasp_core/scene_filter.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <stdexcept>
+
+namespace grasp_core {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+/// SplitMix64 step: derives independent seeds from (seed, stream).
+std::uint64_t derive_seed(std::uint64_t seed, std::uint64_t stream) {
+  std::uint64_t z = seed + 0x9E3779B97F4A7C15ULL * (stream + 1);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  return z ^ (z >> 31);
+}
+
+/// Valid rows of a frame packed as contiguous floats.
+struct Packed {
+  std::vector<float> xyz;  ///< 3 floats per valid point
+  std::vector<int> rows;   ///< input row of each valid point
+  std::size_t size() const { return rows.size(); }
+};
+
+template <typename T>
+Packed pack_finite(const T* xyz, std::size_t n_rows, std::size_t stride) {
+  if (n_rows > 0 && xyz == nullptr) throw std::invalid_argument("scene filter: null point buffer");
+  if (n_rows > 0 && stride < 3) throw std::invalid_argument("scene filter: row stride must be >= 3");
+  if (n_rows > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    throw std::invalid_argument("scene filter: too many points");
+  Packed out;
+  out.xyz.resize(n_rows * 3);
+  out.rows.resize(n_rows);
+  std::size_t m = 0;
+  for (std::size_t i = 0; i < n_rows; ++i) {
+    const T* p = xyz + i * stride;
+    const float x = static_cast<float>(p[0]), y = static_cast<float>(p[1]),
+                z = static_cast<float>(p[2]);
+    // Checked after the cast: a double beyond float range is not finite any more.
+    if (!(std::isfinite(x) && std::isfinite(y) && std::isfinite(z))) continue;
+    out.xyz[3 * m] = x;
+    out.xyz[3 * m + 1] = y;
+    out.xyz[3 * m + 2] = z;
+    out.rows[m] = static_cast<int>(i);
+    ++m;
+  }
+  out.xyz.resize(3 * m);
+  out.rows.resize(m);
+  return out;
+}
+
+/// Plane coefficients in float for the tight loops over the whole cloud.
+struct PlaneF {
+  float nx, ny, nz, c;
+  explicit PlaneF(const Plane& p)
+      : nx(static_cast<float>(p.n.x())), ny(static_cast<float>(p.n.y())),
+        nz(static_cast<float>(p.n.z())), c(static_cast<float>(p.c)) {}
+  float dist(const float* q) const { return nx * q[0] + ny * q[1] + nz * q[2] + c; }
+};
+
+/// SPEC 1.2 on packed finite points.
+std::vector<PlaneCandidate> extract_packed(const float* xyz, std::size_t n,
+                                           const SceneFilterParams& params, std::uint64_t seed) {
+  std::vector<PlaneCandidate> planes;
+  std::vector<int> remainder(n);
+  for (std::size_t i = 0; i < n; ++i) remainder[i] = static_cast<int>(i);
+  const float tau = static_cast<float>(params.plane_dist_thresh);
+  PointsD sub;
+
+  for (int k = 0; k < params.plane_max_count && remainder.size() >= 3; ++k) {
+    // Subsample without replacement: partial Fisher–Yates over the remainder (its order
+    // is irrelevant: it is filtered, not indexed, afterwards).
+    std::mt19937_64 rng(derive_seed(seed, 2 * static_cast<std::uint64_t>(k)));
+    const std::size_t r = remainder.size();
+    const std::size_t m = std::min(r, static_cast<std::size_t>(params.plane_fit_max_points));
+    if (m < r) {
+      for (std::size_t i = 0; i < m; ++i) {
+        std::uniform_int_distribution<std::size_t> pick(i, r - 1);
+        std::swap(remainder[i], remainder[pick(rng)]);
+      }
+    }
+    sub.resize(static_cast<Eigen::Index>(m), 3);
+    for (std::size_t i = 0; i < m; ++i) {
+      const float* p = xyz + 3 * static_cast<std::size_t>(remainder[i]);
+      sub.row(static_cast<Eigen::Index>(i)) << p[0], p[1], p[2];
+    }
+    const std::optional<PlaneFit> fit =
+        fit_plane_ransac(sub, params, derive_seed(seed, 2 * static_cast<std::uint64_t>(k) + 1));
+    if (!fit) break;
+    if (static_cast<double>(fit->inliers) < params.plane_min_inlier_ratio * static_cast<double>(m))
+      break;
+
+    const PlaneF pf(fit->plane);
+    PlaneCandidate cand;
+    cand.plane = fit->plane;
+    cand.subsample_inliers = fit->inliers;
+    cand.subsample_size = static_cast<int>(m);
+    cand.refined = fit->refined;
+    // SPEC `count`: on the whole frame cloud, never on the shrinking remainder.
+    int count = 0;
+    for (std::size_t i = 0; i < n; ++i) count += std::abs(pf.dist(xyz + 3 * i)) < tau ? 1 : 0;
+    cand.count_whole = count;
+    // Drop the plane's inliers from the whole remainder (not only from the subsample).
+    const std::size_t before = remainder.size();
+    remainder.erase(std::remove_if(remainder.begin(), remainder.end(),
+                                   [&](int i) {
+                                     return std::abs(pf.dist(xyz + 3 * static_cast<std::size_t>(i))) < tau;
+                                   }),
+                    remainder.end());
+    cand.removed = static_cast<int>(before - remainder.size());
+    planes.push_back(cand);
+  }
+  return planes;
+}
+
+template <typename T>
+std::vector<PlaneCandidate> extract_any(const T* xyz, std::size_t n_rows, std::size_t stride,
+                                        const SceneFilterParams& params, std::uint64_t seed) {
+  params.validate();
+  const Packed packed = pack_finite(xyz, n_rows, stride);
+  return extract_packed(packed.xyz.data(), packed.size(), params, seed);
+}
+
+}  // namespace
+
+std::vector<PlaneCandidate> extract_planes(const float* xyz, std::size_t n_rows,
+                                           std::size_t row_stride_floats,
+                                           const SceneFilterParams& params, std::uint64_t seed) {
+  return extract_any(xyz, n_rows, row_stride_floats, params, seed);
+}
+
+std::vector<PlaneCandidate> extract_planes(const PointsF& points, const SceneFilterParams& params,
+                                           std::uint64_t seed) {
+  return extract_any(points.data(), static_cast<std::size_t>(points.rows()), 3, params, seed);
+}
+
+std::vector<PlaneCandidate> extract_planes(const PointsD& points, const SceneFilterParams& params,
+                                           std::uint64_t seed) {
+  return extract_any(points.data(), static_cast<std::size_t>(points.rows()), 3, params, seed);
+}
+
+int choose_table(const std::vector<PlaneCandidate>& planes, double dominance) {
+  int max_count = 0;
+  for (const auto& p : planes) max_count = std::max(max_count, p.count_whole);
+  int best = -1;
+  for (std::size_t k = 0; k < planes.size(); ++k) {
+    const auto& p = planes[k];
+    if (static_cast<double>(p.count_whole) < dominance * static_cast<double>(max_count)) continue;
+    if (best < 0 || p.plane.height_m() > planes[static_cast<std::size_t>(best)].plane.height_m())
+      best = static_cast<int>(k);
+  }
+  return best;
+}
+
+// ---------------------------------------------------------------------------------------
+
+SceneFilter::SceneFilter(const SceneFilterParams& params)
+    : params_(params), persistence_(params) {
+  params_.validate();
+}
+
+void SceneFilter::reset() {
+  persistence_.reset();
+  frame_index_ = 0;
+}
+
+namespace {
+
+/// Steps 2–4 of the data path for one packed frame; `frame_seed` drives the plane search.
+SceneFilterResult run_frame(const std::vector<float>& packed_xyz, const std::vector<int>& rows,
+                            std::size_t n_rows,
+                            const SceneFilterParams& params, PlanePersistence& persistence,
+                            std::uint64_t frame_seed, Clock::time_point t0) {
+  SceneFilterResult res;
+  res.band = params.band;
+  const std::size_t n_valid = rows.size();
+  res.num_valid = static_cast<int>(n_valid);
+  res.num_invalid = static_cast<int>(n_rows - n_valid);
+  res.labels.assign(n_rows, kLabelInvalid);
+  for (const int row : rows) res.labels[static_cast<std::size_t>(row)] = kLabelEnvironment;
+
+  // Planes, table choice, persistence.
+  const auto t_plane = Clock::now();
+  res.planes = extract_packed(packed_xyz.data(), n_valid, params, frame_seed);
+  res.table_index = choose_table(res.planes, params.plane_dominance);
+  if (res.table_index >= 0) res.fit = res.planes[static_cast<std::size_t>(res.table_index)].plane;
+  PersistenceUpdate upd = persistence.update(res.fit);
+  res.table = upd.table;
+  res.environment_emitted = upd.environment_emitted;
+  res.fallback = upd.fallback;
+  res.decision = upd.decision;
+  res.events = std::move(upd.events);
+  res.persistence = persistence.state();
+  res.ms_plane = ms_since(t_plane);
+
+  // Band split and clustering (only with a table plane; the fallback has no objects).
+  const auto t_cluster = Clock::now();
+  if (res.table && !res.fallback) {
+    const PlaneF pf(*res.table);
+    const float band = static_cast<float>(params.band);
+    std::vector<float> cand_xyz;
+    std::vector<int> cand_rows;
+    for (std::size_t i = 0; i < n_valid; ++i) {
+      const float* p = packed_xyz.data() + 3 * i;
+      if (pf.dist(p) > band) {  // above the band; below the plane and in the band: environment
+        cand_xyz.insert(cand_xyz.end(), p, p + 3);
+        cand_rows.push_back(rows[i]);
+      }
+    }
+    res.num_candidates = static_cast<int>(cand_rows.size());
+    const ClusterResult cl = euclidean_clusters(
+        cand_xyz.data(), cand_rows.size(), 3, params.cluster_eps, params.cluster_min_points,
+        params.cluster_min_extent, params.cluster_max_extent, params.cluster_voxel_m);
+    for (std::size_t k = 0; k < cand_rows.size(); ++k)
+      res.labels[static_cast<std::size_t>(cand_rows[k])] = cl.labels[k];
+    for (int id = 0; id < cl.num_accepted; ++id) res.cluster_ids.push_back(id);
+    res.clusters = cl.clusters;
+  }
+  res.ms_cluster = ms_since(t_cluster);
+  res.ms_total = ms_since(t0);
+  return res;
+}
+
+}  // namespace
+
+SceneFilterResult SceneFilter::process_packed(const std::vector<float>& packed_xyz,
+                                              const std::vector<int>& valid_rows,
+                                              std::size_t n_rows, Clock::time_point t0) {
+  const std::uint64_t frame_seed =
+      derive_seed(params_.seed, static_cast<std::uint64_t>(frame_index_));
+  ++frame_index_;
+  return run_frame(packed_xyz, valid_rows, n_rows, params_, persistence_, frame_seed, t0);
+}
+
+SceneFilterResult SceneFilter::process(const float* xyz, std::size_t n_rows, std::size_t row_stride) {
+  const auto t0 = Clock::now();
+  const Packed packed = pack_finite(xyz, n_rows, row_stride);
+  return process_packed(packed.xyz, packed.rows, n_rows, t0);
+}
+
+SceneFilterResult SceneFilter::process(const double* xyz, std::size_t n_rows, std::size_t row_stride) {
+  const auto t0 = Clock::now();
+  const Packed packed = pack_finite(xyz, n_rows, row_stride);
+  return process_packed(packed.xyz, packed.rows, n_rows, t0);
+}
+
+SceneFilterResult SceneFilter::process(const PointsF& points) {
+  return process(points.data(), static_cast<std::size_t>(points.rows()), 3);
+}
+
+SceneFilterResult SceneFilter::process(const PointsD& points) {
+  return process(points.data(), static_cast<std::size_t>(points.rows()), 3);
+}
+
+}  // namespace grasp_core

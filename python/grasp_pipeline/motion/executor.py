@@ -1,0 +1,122 @@
+"""Executes timed joint trajectories on the simulated Panda and watches them.
+
+``TrajectoryExecutor.execute(traj)`` hands the trajectory to ``SimWorld.follow_trajectory``
+(with velocities: cubic Hermite reference) and steps the simulation, checking every
+``monitor_every_steps`` physics steps:
+
+* tracking error ``max_j |q_ref_j - q_j| > tracking_error_limit_rad`` → stop;
+* an unexpected contact of a robot geom with the environment or a non-target object
+  (``SimWorld.robot_contacts()``; contacts with ``allowed_contact_prefixes`` — e.g. the
+  target object's geoms while grasping — are expected) → stop, when ``stop_on_contact``.
+
+Stopping means holding the *current* joints (``world.hold()``): the arm is never left
+moving. After the trajectory's end the executor waits until every joint is within
+``settle_position_tol_rad`` of the final sample and slower than
+``settle_velocity_tol_rad_s`` (timeout ``settle_timeout_s`` → error, holding). Errors are
+:class:`ExecutionError` with ``reason`` in {"tracking", "contact", "settle", "input"}.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .config import MotionConfig
+from .exceptions import ExecutionError
+from .trajectory import JointTrajectory
+
+log = logging.getLogger(__name__)
+
+_MONITOR_EVERY_STEPS = 1
+
+
+@dataclass
+class ExecutionReport:
+    """What happened: durations (simulated), worst tracking error, contacts seen, settle state."""
+
+    duration_s: float = 0.0
+    settle_time_s: float = 0.0
+    max_tracking_error_rad: float = 0.0
+    final_error_rad: float = 0.0
+    settled: bool = False
+    contacts: list[tuple[str, str]] = field(default_factory=list)
+
+
+class TrajectoryExecutor:
+    """Follows trajectories in a ``SimWorld`` with monitoring and a safe stop."""
+
+    def __init__(self, world, config: MotionConfig) -> None:
+        self.world = world
+        self.config = config
+
+    def _stop(self, reason: str, message: str) -> None:
+        self.world.hold()  # hold the current joints
+        t = float(self.world.time_s)
+        log.warning("execution stopped (%s) at t=%.3f s: %s", reason, t, message)
+        raise ExecutionError(f"execution stopped: {message}; the arm holds its current position",
+                             reason=reason, time_s=t)
+
+    def _unexpected(self, contacts: list[tuple[str, str]], allowed: tuple[str, ...]) -> list[tuple[str, str]]:
+        return [c for c in contacts if not any(c[1].startswith(p) for p in allowed)]
+
+    def execute(self, traj: JointTrajectory, allowed_contact_prefixes: tuple[str, ...] = (),
+                wait_settled: bool = True) -> ExecutionReport:
+        """Run ``traj`` to completion (blocking in simulated time); see the module doc."""
+        cfg = self.config
+        w = self.world
+        rep = ExecutionReport()
+        if traj.num_samples == 0 or not np.all(np.isfinite(traj.q)):
+            raise ExecutionError("trajectory is empty or contains NaN", reason="input")
+        start_err = float(np.max(np.abs(traj.q[0] - w.q)))
+        if start_err > cfg.tracking_error_limit_rad:
+            w.hold()
+            raise ExecutionError(
+                f"trajectory starts {start_err:.3f} rad away from the current joints "
+                f"(limit {cfg.tracking_error_limit_rad} rad); not executed", reason="input")
+        t_start = float(w.time_s)
+        t_end = w.follow_trajectory(traj.t_s, traj.q, traj.qd)
+        try:
+            while w.time_s < t_end - 0.5 * w.timestep_s:
+                w.step(_MONITOR_EVERY_STEPS)
+                self._monitor(rep, allowed_contact_prefixes)
+            rep.duration_s = float(w.time_s - t_start)
+            if wait_settled:
+                q_final = traj.q[-1]
+                t_limit = w.time_s + cfg.settle_timeout_s
+                while True:
+                    err = float(np.max(np.abs(w.q - q_final)))
+                    if err <= cfg.settle_position_tol_rad and \
+                            float(np.max(np.abs(w.qd))) <= cfg.settle_velocity_tol_rad_s:
+                        rep.settled = True
+                        break
+                    if w.time_s >= t_limit:
+                        self._stop("settle", f"the arm did not settle within {cfg.settle_timeout_s} s "
+                                             f"(error {err:.4f} rad, speed {np.max(np.abs(w.qd)):.4f} rad/s)")
+                    w.step(_MONITOR_EVERY_STEPS)
+                    self._monitor(rep, allowed_contact_prefixes)
+                rep.settle_time_s = float(w.time_s - t_start - rep.duration_s)
+            rep.final_error_rad = float(np.max(np.abs(w.q - traj.q[-1])))
+        except ExecutionError:
+            raise
+        except Exception:
+            w.hold()
+            raise
+        return rep
+
+    def _monitor(self, rep: ExecutionReport, allowed: tuple[str, ...]) -> None:
+        cfg = self.config
+        w = self.world
+        q_ref, _ = w.reference()
+        err = float(np.max(np.abs(q_ref - w.q)))
+        rep.max_tracking_error_rad = max(rep.max_tracking_error_rad, err)
+        if err > cfg.tracking_error_limit_rad:
+            self._stop("tracking", f"tracking error {err:.4f} rad exceeds {cfg.tracking_error_limit_rad} rad")
+        contacts = w.robot_contacts()
+        if contacts:
+            bad = self._unexpected(contacts, allowed)
+            if bad:
+                rep.contacts.extend(bad)
+                if cfg.stop_on_contact:
+                    self._stop("contact", f"unexpected robot contact {sorted(set(bad))}")

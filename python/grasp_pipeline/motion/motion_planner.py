@@ -1,0 +1,200 @@
+"""One entry point for the orchestrator: scene in, timed collision-free trajectories out.
+
+``MotionPlanner`` owns the robot model pieces (sphere model, IK, TOPP-RA timer) and the
+current perceived scene (occupancy map + object boxes). Typical use::
+
+    mp = MotionPlanner()                                   # config/motion.yaml
+    mp.set_scene(scene.environment_points, scene.object_boxes, capture_q=scene.capture_q)
+    traj = mp.plan_to_joints(world.q, q_goal)             # JointTrajectory
+    traj = mp.plan_to_pose(world.q, T_world_tcp)          # IK (nearest valid) + plan
+    mp.set_target(box_index)                               # the grasp target is no obstacle
+    traj = mp.plan_cartesian(q, T_tcp_grasp, allow_target_contact=True)
+
+Every returned trajectory has been re-checked at its TOPP-RA samples (so the spline's
+deviation from the checked polyline cannot clip an obstacle).
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+
+import mujoco
+import numpy as np
+
+from ..sim import robot_model as rm
+from .cartesian import CartesianPlanner
+from .config import MotionConfig, load_motion_config
+from .exceptions import EnvironmentCloudError, GoalInCollisionError, PlanningFailedError
+from .ik import IKResult, PandaIK
+from .occupancy import OccupancyMap, OrientedBox
+from .planner import JointPlanner
+from .poses import validate_joints, validate_pose
+from .robot_spheres import RobotSpheres
+from .timing import TrajectoryTimer
+from .trajectory import JointPath, JointTrajectory
+from .validity import StateValidator
+
+log = logging.getLogger(__name__)
+
+
+class MotionPlanner:
+    """IK + collision model + OMPL + Cartesian lines + TOPP-RA for one robot."""
+
+    def __init__(self, config: MotionConfig | None = None, model: mujoco.MjModel | None = None) -> None:
+        self.config = config if config is not None else load_motion_config()
+        self.model = model if model is not None else rm.load_robot_model()
+        cfg = self.config
+        self.robot = RobotSpheres(self.model, cfg.sphere_cell_m, cfg.default_finger_opening_m,
+                                  cfg.self_collision_margin_m)
+        self.ik = PandaIK(cfg, self.model)
+        self.validator = StateValidator(self.robot, cfg)
+        self.joint_planner = JointPlanner(self.validator, cfg)
+        self.cartesian = CartesianPlanner(self.ik, self.validator, cfg)
+        self.timer = TrajectoryTimer(rm.PANDA_QD_MAX, rm.PANDA_QDD_MAX, cfg)
+        self.env: OccupancyMap | None = None
+        self.boxes: list[OrientedBox] = []
+        self.target_index: int | None = None
+        self.last_scene_ms = 0.0
+
+    # ------------------------------------------------------------------ scene
+    def set_scene(self, environment_points: np.ndarray, object_boxes: list[OrientedBox] | None = None,
+                  capture_q: np.ndarray | None = None, target_index: int | None = None) -> OccupancyMap:
+        """Build the occupancy map from perceived environment points; keep the object boxes.
+
+        ``capture_q``: arm joints when the points were captured — points inside the robot's
+        own spheres (+ ``self_filter_padding_m``) at that state are dropped (the robot's
+        self-filter). Raises EnvironmentCloudError for malformed or oversized clouds.
+        """
+        t0 = time.perf_counter()
+        cfg = self.config
+        pts = np.asarray(environment_points)
+        if pts.size == 0:
+            pts = np.zeros((0, 3))
+        if pts.ndim != 2 or pts.shape[1] != 3:
+            raise EnvironmentCloudError(f"environment points must be an (N, 3) array, got shape {pts.shape}")
+        if len(pts) > cfg.max_environment_points:
+            raise EnvironmentCloudError(
+                f"environment cloud has {len(pts)} points, over the limit of {cfg.max_environment_points} "
+                "(motion.max_environment_points); down-sample it first")
+        if capture_q is not None and len(pts):
+            pts = self._self_filter(pts, validate_joints(capture_q, "capture joints"))
+        self.env = OccupancyMap.from_points(pts, cfg.voxel_size_m, cfg.workspace_min_m, cfg.workspace_max_m,
+                                            pad_m=self.validator.required_pad_m(),
+                                            max_points=cfg.max_environment_points,
+                                            max_voxels=cfg.max_grid_voxels)
+        self.boxes = list(object_boxes or [])
+        self.set_target(target_index)
+        self.last_scene_ms = (time.perf_counter() - t0) * 1e3
+        return self.env
+
+    def set_target(self, target_index: int | None) -> None:
+        """Choose the grasp target among the object boxes (None: every box is an obstacle)."""
+        if target_index is not None and not (0 <= target_index < len(self.boxes)):
+            raise IndexError(f"target index {target_index} out of range ({len(self.boxes)} boxes)")
+        self.target_index = target_index
+        obstacles = [b for i, b in enumerate(self.boxes) if i != target_index]
+        target = self.boxes[target_index] if target_index is not None else None
+        self.validator.set_scene(self.env, obstacles, target)
+
+    def set_finger_opening(self, gap_m: float) -> None:
+        """Finger gap assumed by the collision model (e.g. the object width while holding)."""
+        self.robot.set_finger_opening(gap_m)
+
+    def _self_filter(self, pts: np.ndarray, q: np.ndarray) -> np.ndarray:
+        finite = np.all(np.isfinite(pts), axis=1)
+        pts = pts[finite]
+        C = self.robot.centres(q[None])[0]
+        r = self.robot.spheres.radius + self.config.self_filter_padding_m
+        lo, hi = C.min(0) - r.max(), C.max(0) + r.max()
+        near = np.all((pts >= lo) & (pts <= hi), axis=1)
+        if not np.any(near):
+            return pts
+        from scipy.spatial import cKDTree
+
+        tree = cKDTree(pts[near])
+        drop = np.zeros(int(near.sum()), dtype=bool)
+        for c, rr in zip(C, r):
+            idx = tree.query_ball_point(c, rr)
+            if idx:
+                drop[idx] = True
+        keep = np.ones(len(pts), dtype=bool)
+        keep[np.nonzero(near)[0][drop]] = False
+        return pts[keep]
+
+    # ------------------------------------------------------------------ planning
+    def solve_ik(self, T_world: np.ndarray, q_current: np.ndarray, frame: str = "tcp") -> IKResult:
+        return self.ik.solve_tcp(T_world, q_current) if frame == "tcp" else self.ik.solve_flange(T_world, q_current)
+
+    def plan_path_to_joints(self, q_start: np.ndarray, q_goal: np.ndarray) -> JointPath:
+        return self.joint_planner.plan(q_start, q_goal)
+
+    def plan_to_joints(self, q_start: np.ndarray, q_goal: np.ndarray) -> JointTrajectory:
+        """Collision-free timed trajectory from ``q_start`` to ``q_goal``."""
+        return self.time_path(self.plan_path_to_joints(q_start, q_goal))
+
+    def plan_path_to_pose(self, q_start: np.ndarray, T_world: np.ndarray, frame: str = "tcp") -> JointPath:
+        """IK (all solutions, nearest first), then plan to the nearest collision-free one."""
+        t0 = time.perf_counter()
+        validate_pose(T_world, f"{frame} target pose")
+        res = self.solve_ik(T_world, q_start, frame)
+        ok = self.validator.check_batch(res.solutions)
+        if not np.any(ok):
+            raise GoalInCollisionError(
+                f"all {len(res.solutions)} IK solutions of the {frame} target collide; nearest: "
+                f"{self.validator.explain(res.solutions[0])}")
+        errors = []
+        for q_goal in res.solutions[ok][:3]:
+            try:
+                p = self.joint_planner.plan(q_start, q_goal)
+                return JointPath(p.waypoints, (time.perf_counter() - t0) * 1e3, p.method, p.attempts,
+                                 p.checked_states)
+            except PlanningFailedError as exc:
+                errors.append(str(exc))
+        raise PlanningFailedError("no path to any of the nearest collision-free IK solutions: "
+                                  + " | ".join(errors))
+
+    def plan_to_pose(self, q_start: np.ndarray, T_world: np.ndarray, frame: str = "tcp") -> JointTrajectory:
+        return self.time_path(self.plan_path_to_pose(q_start, T_world, frame))
+
+    def plan_path_cartesian(self, q_start: np.ndarray, T_goal: np.ndarray, frame: str = "tcp",
+                            allow_target_contact: bool = False) -> JointPath:
+        return self.cartesian.plan(q_start, T_goal, frame, allow_target_contact)
+
+    def plan_cartesian(self, q_start: np.ndarray, T_goal: np.ndarray, frame: str = "tcp",
+                       allow_target_contact: bool = False) -> JointTrajectory:
+        """Timed straight-line motion of the TCP (or flange) to ``T_goal``."""
+        path = self.plan_path_cartesian(q_start, T_goal, frame, allow_target_contact)
+        return self.time_path(path, allow_target_contact)
+
+    def time_path(self, path: JointPath, allow_target_contact: bool = False) -> JointTrajectory:
+        """TOPP-RA timing + collision re-check of the timed samples."""
+        traj = self.timer.time_path(path)
+        self.check_trajectory(traj, allow_target_contact)
+        return traj
+
+    def check_trajectory(self, traj: JointTrajectory, allow_target_contact: bool = False) -> None:
+        """Raise PlanningFailedError if a timed sample is invalid (checked at ≤ the dense step)."""
+        q = traj.q
+        if len(q) < 2:
+            return
+        step = np.max(np.abs(np.diff(q, axis=0)), axis=1)
+        # pick samples so that consecutive checked samples differ by ≤ final_check_step_rad
+        keep = [0]
+        acc = 0.0
+        for k in range(1, len(q)):
+            acc += step[k - 1]
+            if acc >= self.config.final_check_step_rad:
+                keep.append(k)
+                acc = 0.0
+        keep.append(len(q) - 1)
+        v = self.validator
+        prev = v.allow_target_contact
+        v.allow_target_contact = allow_target_contact
+        try:
+            ok = v.check_batch(q[np.unique(keep)])
+            if not np.all(ok):
+                bad = q[np.unique(keep)][int(np.argmin(ok))]
+                raise PlanningFailedError(f"timed trajectory sample is invalid: {v.explain(bad)}")
+        finally:
+            v.allow_target_contact = prev

@@ -1,0 +1,200 @@
+"""The perceived obstacles: a voxel occupancy map of the environment points with a
+Euclidean distance field, plus oriented boxes (the non-target objects).
+
+This is the octomap equivalent of the original design. Points are binned into voxels
+of ``voxel_size_m`` inside the configured workspace box (points outside are ignored:
+the robot cannot reach them); the grid spans the occupied voxels' bounding box padded
+by ``pad_m`` (the largest distance a query needs) so its size follows the scene, not
+the workspace. ``scipy.ndimage.distance_transform_edt`` then gives, for every voxel
+centre, the distance to the nearest occupied voxel centre, making a sphere query O(1).
+
+Conservative semantics: an occupied voxel stands for a solid cube; a query point is
+rounded to its voxel centre. Both roundings are bounded by half a voxel diagonal, so
+``distance_m(p) - inflation_m`` (``inflation_m = √3·voxel``) is a lower bound of the
+distance from ``p`` to any environment point. Queries outside the grid are farther than
+``pad_m`` from every point and return ``inf``.
+"""
+
+from __future__ import annotations
+
+import copy
+import logging
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import ndimage
+
+from .exceptions import EnvironmentCloudError
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class OrientedBox:
+    """A box obstacle: ``center`` (3,) m, rotation ``R`` (3, 3) (columns = box axes in
+    world), full ``extents`` (3,) m along those axes."""
+
+    center: np.ndarray
+    R: np.ndarray
+    extents: np.ndarray
+
+    def __post_init__(self) -> None:
+        c = np.asarray(self.center, dtype=float).reshape(3)
+        R = np.asarray(self.R, dtype=float).reshape(3, 3)
+        e = np.asarray(self.extents, dtype=float).reshape(3)
+        if not (np.all(np.isfinite(c)) and np.all(np.isfinite(R)) and np.all(np.isfinite(e))):
+            raise EnvironmentCloudError("object box has NaN/Inf center, rotation or extents")
+        if np.any(e < 0):
+            raise EnvironmentCloudError(f"object box has negative extents {e}")
+        object.__setattr__(self, "center", c)
+        object.__setattr__(self, "R", R)
+        object.__setattr__(self, "extents", e)
+
+    def inflated(self, pad_m: float) -> "OrientedBox":
+        return OrientedBox(self.center, self.R, self.extents + 2.0 * pad_m)
+
+    def contains(self, points: np.ndarray) -> np.ndarray:
+        """Boolean mask of the points (N, 3) inside the box."""
+        local = (np.asarray(points, dtype=float) - self.center) @ self.R
+        return np.all(np.abs(local) <= 0.5 * self.extents, axis=-1)
+
+    def distance_m(self, points: np.ndarray) -> np.ndarray:
+        """Distance of each point (N, 3) to the box (0 inside)."""
+        local = (np.asarray(points, dtype=float) - self.center) @ self.R
+        h = 0.5 * self.extents
+        return np.linalg.norm(local - np.clip(local, -h, h), axis=-1)
+
+
+def boxes_distance_m(boxes: list[OrientedBox], points: np.ndarray) -> np.ndarray:
+    """(N,) distance of each point to the nearest box (inf without boxes)."""
+    d = np.full(len(points), np.inf)
+    for b in boxes:
+        d = np.minimum(d, b.distance_m(points))
+    return d
+
+
+class OccupancyMap:
+    """Voxelised environment points with a Euclidean distance field.
+
+    Build with :meth:`from_points`. ``distance_m(points)`` → distance (m) from each
+    query point's voxel centre to the nearest occupied voxel centre (``inf`` outside the
+    grid or for an empty map). Subtract :attr:`inflation_m` for a guaranteed lower bound.
+    """
+
+    def __init__(self, origin_m: np.ndarray, voxel_size_m: float, occupied: np.ndarray,
+                 pad_m: float) -> None:
+        self.origin_m = np.asarray(origin_m, dtype=float)
+        self.voxel_size_m = float(voxel_size_m)
+        self.occupied = occupied
+        self.pad_m = float(pad_m)
+        self.inflation_m = math.sqrt(3.0) * self.voxel_size_m
+        self.shape = np.array(occupied.shape, dtype=np.int64)
+        self.num_occupied = int(np.count_nonzero(occupied))
+        if self.num_occupied:
+            self._field = (ndimage.distance_transform_edt(~occupied) * self.voxel_size_m).astype(np.float32)
+        else:
+            self._field = None
+        self._cleared: tuple[OrientedBox, object] | None = None
+
+    # ------------------------------------------------------------------ construction
+    @classmethod
+    def from_points(cls, points: np.ndarray, voxel_size_m: float, workspace_min_m, workspace_max_m,
+                    pad_m: float, max_points: int, max_voxels: int) -> "OccupancyMap":
+        """Voxelise environment points (N, 3) in ``world``.
+
+        Non-finite points are dropped, points outside the workspace box are ignored. An
+        empty cloud is a valid, empty map (free space). Raises EnvironmentCloudError for
+        a malformed array, more than ``max_points`` points, or a grid over ``max_voxels``.
+        """
+        pts = np.asarray(points)
+        if pts.size == 0:
+            pts = pts.reshape(0, 3)
+        if pts.ndim != 2 or pts.shape[1] != 3:
+            raise EnvironmentCloudError(f"environment points must be an (N, 3) array, got shape {pts.shape}")
+        if len(pts) > max_points:
+            raise EnvironmentCloudError(
+                f"environment cloud has {len(pts)} points, over the limit of {max_points} "
+                "(motion.max_environment_points); down-sample it first")
+        pts = pts[np.all(np.isfinite(pts), axis=1)].astype(float, copy=False)
+        lo_ws = np.asarray(workspace_min_m, dtype=float)
+        hi_ws = np.asarray(workspace_max_m, dtype=float)
+        pts = pts[np.all((pts >= lo_ws) & (pts <= hi_ws), axis=1)]
+        v = float(voxel_size_m)
+        pad_vox = int(math.ceil(pad_m / v)) + 1
+        if len(pts) == 0:
+            return cls(lo_ws, v, np.zeros((1, 1, 1), dtype=bool), pad_m)
+        idx = np.floor((pts - lo_ws) / v).astype(np.int64)
+        imin = idx.min(axis=0) - pad_vox
+        imax = idx.max(axis=0) + pad_vox
+        shape = imax - imin + 1
+        n_vox = int(np.prod(shape))
+        if n_vox > max_voxels:
+            raise EnvironmentCloudError(
+                f"occupancy grid would need {n_vox} voxels of {v * 100:.1f} cm "
+                f"({shape.tolist()}), over the limit of {max_voxels} (motion.max_grid_voxels); "
+                "crop the cloud or use a larger voxel_size_m")
+        occ = np.zeros(tuple(shape), dtype=bool)
+        rel = idx - imin
+        occ[rel[:, 0], rel[:, 1], rel[:, 2]] = True
+        origin = lo_ws + imin * v
+        return cls(origin, v, occ, pad_m)
+
+    # ------------------------------------------------------------------ queries
+    def _lookup(self, field: np.ndarray | None, origin: np.ndarray, shape: np.ndarray,
+                points: np.ndarray) -> np.ndarray:
+        if field is None:
+            return np.full(len(points), np.inf)
+        idx = np.floor((points - origin) / self.voxel_size_m).astype(np.int64)
+        inside = np.all((idx >= 0) & (idx < shape), axis=1)
+        out = np.full(len(points), np.inf)
+        ii = idx[inside]
+        out[inside] = field[ii[:, 0], ii[:, 1], ii[:, 2]]
+        return out
+
+    def distance_m(self, points: np.ndarray, cleared: bool = False) -> np.ndarray:
+        """(N,) distance from each point's voxel centre to the nearest occupied voxel.
+
+        ``cleared=True`` (only on a view from :meth:`with_cleared_region`) answers as if
+        the voxels inside the cleared box were free, for queries within ``pad_m`` of it.
+        """
+        points = np.asarray(points, dtype=float).reshape(-1, 3)
+        d = self._lookup(self._field, self.origin_m, self.shape, points)
+        if cleared and self._cleared is not None:
+            box, tree = self._cleared
+            near = box.distance_m(points) <= self.pad_m
+            if np.any(near):
+                if tree is None:
+                    d[near] = np.inf
+                else:
+                    centres = self.origin_m + (np.floor(
+                        (points[near] - self.origin_m) / self.voxel_size_m) + 0.5) * self.voxel_size_m
+                    dd, _ = tree.query(centres, distance_upper_bound=2.0 * self.pad_m)
+                    d[near] = dd
+        return d
+
+    def with_cleared_region(self, box: OrientedBox) -> "OccupancyMap":
+        """A view of this map whose ``distance_m(..., cleared=True)`` treats the voxels
+        inside ``box`` as free (the grasp target's region). The original is unchanged.
+
+        Near the box (within ``pad_m``) distances come from a k-d tree over the occupied
+        voxel centres outside the box (same voxel-centre semantics as the field).
+        """
+        from scipy.spatial import cKDTree
+
+        view = copy.copy(self)
+        if self._field is None:
+            view._cleared = (box, None)
+            return view
+        v = self.voxel_size_m
+        occ_idx = np.argwhere(self.occupied)
+        centres = self.origin_m + (occ_idx + 0.5) * v
+        keep = ~box.contains(centres)
+        near = box.distance_m(centres) <= 3.0 * self.pad_m
+        sel = centres[keep & near]
+        view._cleared = (box, cKDTree(sel) if len(sel) else None)
+        return view
+
+    def __repr__(self) -> str:
+        return (f"OccupancyMap({self.num_occupied} occupied voxels of {self.voxel_size_m * 100:.1f} cm, "
+                f"grid {self.shape.tolist()})")

@@ -1,0 +1,157 @@
+"""State validity for planning: joint limits + self-collision + perceived environment.
+
+A joint state is valid when
+* every joint is within ``[q_min, q_max]``;
+* no checked pair of robot spheres (non-adjacent links, see :mod:`.robot_spheres`) is closer
+  than ``self_collision_margin_m``;
+* every sphere of a moving link keeps ``collision_margin_m`` from the occupancy map (the
+  map's conservative voxel inflation included), from every non-target object box, and stays
+  above the floor plane ``floor_z_m``.
+
+With ``allow_target_contact=True`` (the final Cartesian approach and the lift) the spheres
+of the flange subtree (link 7, hand, fingers, camera) use the map view in which the target
+box (inflated by ``target_ignore_padding_m``) is free: the fingers may enter the target's
+region and come close to the table right beside it. Everything else is unchanged.
+
+Obstacles come only from perception (environment points, object boxes): never from the
+simulator's ground truth.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..sim import robot_model as rm
+from .config import MotionConfig
+from .occupancy import OccupancyMap, OrientedBox
+from .robot_spheres import RobotSpheres
+
+
+class StateValidator:
+    """Batch and single-state validity of arm joint states against one perceived scene."""
+
+    def __init__(self, robot: RobotSpheres, config: MotionConfig,
+                 env: OccupancyMap | None = None, boxes: list[OrientedBox] | None = None,
+                 target_box: OrientedBox | None = None) -> None:
+        self.robot = robot
+        self.config = config
+        self.q_min = np.asarray(rm.PANDA_Q_MIN, dtype=float)
+        self.q_max = np.asarray(rm.PANDA_Q_MAX, dtype=float)
+        sph = robot.spheres
+        self._env_idx = np.nonzero(robot.env_mask)[0]
+        self._env_r = sph.radius[self._env_idx]
+        self._env_hand = robot.hand_mask[self._env_idx]
+        self.allow_target_contact = False
+        self.set_scene(env, boxes or [], target_box)
+        self.checked_states = 0
+
+    # ------------------------------------------------------------------ scene
+    def required_pad_m(self) -> float:
+        """Distance-field padding an occupancy map needs for these checks."""
+        v = self.config.voxel_size_m
+        return float(self._env_r.max() + self.config.collision_margin_m + np.sqrt(3.0) * v + v)
+
+    def set_scene(self, env: OccupancyMap | None, boxes: list[OrientedBox],
+                  target_box: OrientedBox | None = None) -> None:
+        """Obstacles: the environment map, the non-target boxes, and (optionally) the target
+        box whose padded region the hand may enter when ``allow_target_contact`` is set."""
+        self.env = env
+        self.boxes = list(boxes)
+        self.target_box = target_box
+        self._env_cleared = None
+        if env is not None and target_box is not None:
+            self._env_cleared = env.with_cleared_region(
+                target_box.inflated(self.config.target_ignore_padding_m))
+        self._env_thr = self._env_r + self.config.collision_margin_m + (env.inflation_m if env else 0.0)
+        self._box_thr = self._env_r + self.config.collision_margin_m
+
+    # ------------------------------------------------------------------ checks
+    def _components(self, Q: np.ndarray):
+        """Per-state margins: limits ok (N,), self clearance (N,), env slack (N, Se),
+        box slack (N, Se), floor slack (N, Se) and the sphere centres."""
+        Q = np.atleast_2d(np.asarray(Q, dtype=float))
+        lim_ok = np.all((Q >= self.q_min) & (Q <= self.q_max), axis=1)
+        C = self.robot.centres(Q)
+        self_min = self.robot.self_clearance_min(C)
+        E = C[:, self._env_idx]  # (N, Se, 3)
+        n, se = E.shape[:2]
+        flat = E.reshape(-1, 3)
+        if self.env is not None:
+            d = self.env.distance_m(flat).reshape(n, se)
+            if self.allow_target_contact and self._env_cleared is not None:
+                hand = np.broadcast_to(self._env_hand, (n, se))
+                dh = self._env_cleared.distance_m(flat[hand.reshape(-1)], cleared=True)
+                d[hand] = dh
+            env_slack = d - self._env_thr
+        else:
+            env_slack = np.full((n, se), np.inf)
+        if self.boxes:
+            db = np.full(len(flat), np.inf)
+            for b in self.boxes:
+                db = np.minimum(db, b.distance_m(flat))
+            box_slack = db.reshape(n, se) - self._box_thr
+        else:
+            box_slack = np.full((n, se), np.inf)
+        floor_slack = E[..., 2] - self._env_r - self.config.floor_z_m
+        return lim_ok, self_min, env_slack, box_slack, floor_slack, C
+
+    def check_batch(self, Q: np.ndarray) -> np.ndarray:
+        """(N,) True where the state is valid."""
+        lim_ok, self_min, env_slack, box_slack, floor_slack, _ = self._components(Q)
+        self.checked_states += len(lim_ok)
+        return (lim_ok & (self_min >= self.config.self_collision_margin_m)
+                & np.all(env_slack >= 0, axis=1) & np.all(box_slack >= 0, axis=1)
+                & np.all(floor_slack >= 0, axis=1))
+
+    def is_valid(self, q: np.ndarray) -> bool:
+        return bool(self.check_batch(np.asarray(q, dtype=float)[None])[0])
+
+    def segment_states(self, qa: np.ndarray, qb: np.ndarray, max_step_rad: float,
+                       include_start: bool = False) -> np.ndarray:
+        """States along the straight joint line, no joint moving more than ``max_step_rad``."""
+        qa, qb = np.asarray(qa, dtype=float), np.asarray(qb, dtype=float)
+        n = max(1, int(np.ceil(np.max(np.abs(qb - qa)) / max_step_rad)))
+        s = np.arange(0 if include_start else 1, n + 1)[:, None] / n
+        return qa + (qb - qa) * s
+
+    def check_segment(self, qa: np.ndarray, qb: np.ndarray, max_step_rad: float,
+                      include_start: bool = False) -> bool:
+        """True if every state on the line (step ≤ ``max_step_rad`` per joint) is valid."""
+        return bool(np.all(self.check_batch(self.segment_states(qa, qb, max_step_rad, include_start))))
+
+    def check_path(self, waypoints: np.ndarray, max_step_rad: float) -> int | None:
+        """Index of the first segment with an invalid state (dense check), or None."""
+        wp = np.asarray(waypoints, dtype=float)
+        if not self.is_valid(wp[0]):
+            return 0
+        for k in range(len(wp) - 1):
+            if not self.check_segment(wp[k], wp[k + 1], max_step_rad):
+                return k
+        return None
+
+    def explain(self, q: np.ndarray) -> str:
+        """Human-readable reason why ``q`` is invalid ("valid" if it is not)."""
+        q = np.asarray(q, dtype=float)
+        lim_ok, self_min, env_slack, box_slack, floor_slack, C = self._components(q[None])
+        m = self.robot.model
+        reasons = []
+        if not lim_ok[0]:
+            bad = np.nonzero((q < self.q_min) | (q > self.q_max))[0]
+            reasons += [f"joint {j + 1} = {q[j]:.4f} rad outside [{self.q_min[j]:.4f}, {self.q_max[j]:.4f}]"
+                        for j in bad]
+        if self_min[0] < self.config.self_collision_margin_m:
+            c = C[0]
+            d = np.linalg.norm(c[self.robot.pair_i] - c[self.robot.pair_j], axis=1) - self.robot.pair_rsum
+            k = int(np.argmin(d))
+            a = m.body(int(self.robot.spheres.body[self.robot.pair_i[k]])).name
+            b = m.body(int(self.robot.spheres.body[self.robot.pair_j[k]])).name
+            reasons.append(f"self-collision between {a} and {b} ({-d[k] * 1e3:.1f} mm overlap)")
+        names = [m.body(int(b)).name for b in self.robot.spheres.body[self._env_idx]]
+        for label, slack in (("perceived environment (occupancy map)", env_slack[0]),
+                             ("a non-target object box", box_slack[0]), ("the floor", floor_slack[0])):
+            if np.any(slack < 0):
+                k = int(np.argmin(slack))
+                p = C[0, self._env_idx[k]]
+                reasons.append(f"{names[k]} within the clearance of {label} by {-slack[k] * 1e3:.1f} mm "
+                               f"near ({p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}) m")
+        return "; ".join(reasons) if reasons else "valid"

@@ -1,0 +1,127 @@
+"""One camera session of perception: the Python face of the C++ per-frame path.
+
+``PerceptionSession.process(points, camera_position, time_s)`` makes exactly one call
+into C++ per frame (scene filter → two-pass estimates → view quality → tracker),
+forwards the core's events to :mod:`logging` and returns a :class:`FrameResult`
+that gives numpy views of the object / environment points without copying the
+labels. The locked plane and the band are latched: readable at any time, also by
+a consumer that starts late.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+
+from .. import _core
+from .config import ObbConfig, SceneFilterConfig
+
+log = logging.getLogger("grasp_pipeline.perception")
+
+_LEVELS = {
+    _core.EventLevel.DEBUG: logging.DEBUG,
+    _core.EventLevel.INFO: logging.INFO,
+    _core.EventLevel.WARNING: logging.WARNING,
+    _core.EventLevel.ERROR: logging.ERROR,
+}
+
+
+@dataclass
+class FrameResult:
+    """Perception output of one frame (``raw`` is the core's PerceptionFrame)."""
+
+    raw: "_core.PerceptionFrame"
+    points: np.ndarray  # the caller's (N, 3) array, not copied
+
+    @property
+    def labels(self) -> np.ndarray:
+        """One int per input row: -2 invalid, -1 environment, >= 0 object group id."""
+        return self.raw.filter.labels
+
+    @property
+    def table(self) -> Optional["_core.Plane"]:
+        return self.raw.filter.table
+
+    @property
+    def estimates(self) -> list:
+        return self.raw.estimates
+
+    @property
+    def object_mask(self) -> np.ndarray:
+        return self.labels >= 0
+
+    @property
+    def environment_mask(self) -> np.ndarray:
+        """Environment rows; empty before the first lock (SPEC 1.5: nothing is emitted)."""
+        if not self.raw.filter.environment_emitted:
+            return np.zeros(len(self.labels), dtype=bool)
+        return self.labels == _core.LABEL_ENVIRONMENT
+
+    def object_points(self) -> tuple[np.ndarray, np.ndarray]:
+        """(M, 3) object points and their (M,) group ids."""
+        m = self.object_mask
+        return self.points[m], self.labels[m]
+
+    def environment_points(self) -> np.ndarray:
+        return self.points[self.environment_mask]
+
+
+class PerceptionSession:
+    """Scene filter + estimates + tracker for one camera session."""
+
+    def __init__(self, filter_config: SceneFilterConfig | None = None,
+                 obb_config: ObbConfig | None = None) -> None:
+        self.filter_config = filter_config or SceneFilterConfig()
+        self.obb_config = obb_config or ObbConfig()
+        self._core = _core.Perception(self.filter_config.to_core(), self.obb_config.to_core())
+        self.frames = 0
+
+    # ---- latched session constants -------------------------------------------------
+    @property
+    def plane(self) -> Optional["_core.Plane"]:
+        """The locked table plane (None before the first lock)."""
+        return self._core.scene_filter.persistence.state.lock
+
+    @property
+    def band_m(self) -> float:
+        return self.filter_config.band
+
+    @property
+    def plane_locked(self) -> bool:
+        return self._core.scene_filter.persistence.locked
+
+    @property
+    def tracker(self) -> "_core.Tracker":
+        return self._core.tracker
+
+    def tracks(self) -> list:
+        """Tracks sorted by tid."""
+        return list(self._core.tracker.tracks)
+
+    # ---- per frame ---------------------------------------------------------------
+    def process(self, points: np.ndarray, camera_position, time_s: float) -> FrameResult:
+        """One frame: (N, 3) float32/float64 world points, camera position at capture, time."""
+        raw = self._core.process(points, camera_position, float(time_s))
+        self.frames += 1
+        for ev in raw.filter.events:
+            log.log(_LEVELS.get(ev.level, logging.INFO), "%s", ev.message)
+        if raw.filter.num_invalid:
+            log.debug("dropped %d NaN/Inf rows", raw.filter.num_invalid)
+        for label, why in zip(raw.failed_labels, raw.failures):
+            log.debug("cluster %d: no estimate (%s)", label, why)
+        if raw.tids:
+            log.debug("views: %s", ", ".join(
+                f"#{tid} {v.quality.name.lower()}" for tid, v in zip(raw.tids, raw.views)))
+        return FrameResult(raw=raw, points=points)
+
+    def view_labels(self, frame: FrameResult) -> str:
+        """``#0 nadir, #1 oblique`` for the log lines users know."""
+        return ", ".join(f"#{tid} {v.quality.name.lower()} ({v.angle_deg:.1f} deg)"
+                         for tid, v in zip(frame.raw.tids, frame.raw.views))
+
+    def reset(self) -> None:
+        self._core.reset()
+        self.frames = 0

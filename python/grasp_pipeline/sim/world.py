@@ -1,0 +1,466 @@
+"""The simulated world: Panda + hand + depth camera + table scene, stepped in MuJoCo.
+
+:class:`SimWorld` builds an ``MjModel`` from ``sim/scene_base.xml`` (robot, table, wall, tray)
+plus the objects of a :class:`~.scene_spec.SceneSpec` (added with ``MjSpec``), then offers:
+
+* stepping (``step``, ``run_until``) at the physics step of ``sim.yaml`` (2 ms);
+* arm control: a time-stamped joint trajectory (``follow_trajectory``) is interpolated every
+  step (cubic Hermite when velocities are given, else linear) and fed to the joint PD servos
+  (position actuators, ``ctrl = q_ref + (kv/kp) qd_ref`` so the servo also tracks the
+  reference velocity); gravity is compensated by the model (``gravcomp``);
+* the gripper: ``set_gripper(width_m, effort_N)`` moves the commanded finger gap at
+  ``gripper_speed_mps`` towards the target; the single actuator's force (the squeeze force) is
+  limited to the effort, so closing on an object stalls there and holds by friction;
+* readouts (joints, velocities, finger gap and speed, flange/TCP/camera poses), contacts of
+  robot geoms with non-robot geoms, and depth frames (``capture``, ``poll_frame``) at the
+  camera rate in simulated time.
+
+Ground truth about objects is deliberately *not* offered here; evaluation code reads it
+through :mod:`grasp_pipeline.sim.ground_truth`.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from typing import Callable
+
+import mujoco
+import numpy as np
+
+from ..assets import asset_path
+from .camera import DepthCamera
+from .config import CameraConfig, SimConfig, load_camera_config, load_sim_config
+from .exceptions import GripperError, ModelError, TrajectoryError
+from .frame import Frame
+from .robot_model import (
+    BASE_BODY,
+    FINGER_GAP_TENDON,
+    FINGER_JOINT_NAMES,
+    FLANGE_BODY,
+    GRIPPER_ACTUATOR,
+    GRIPPER_MAX_WIDTH_M,
+    PANDA_ACTUATOR_NAMES,
+    PANDA_Q_MAX,
+    PANDA_Q_MIN,
+    TCP_SITE,
+    arm_dof_indices,
+    arm_qpos_indices,
+)
+from .scene_spec import ObjectSpec, SceneSpec
+from .scenes import reference_scene
+
+log = logging.getLogger(__name__)
+
+SCENE_BASE_XML = "scene_base.xml"
+TABLE_TOP_GEOM = "table_top"
+#: Prefix of object body and geom names in the model.
+OBJECT_PREFIX = "obj_"
+#: Objects: torsional/rolling friction coefficients and contact dimension (4: torsional
+#: friction too, as in DESIGN.md's friction-grasp test).
+OBJECT_FRICTION_TORSION = 0.005
+OBJECT_FRICTION_ROLL = 0.0001
+OBJECT_CONDIM = 4
+#: Objects' contact softness: a 4 ms time constant (2 physics steps) and high impedance, like
+#: the fingertip pads, so a 40 N squeeze compresses the contact by about a millimetre, not 5.
+OBJECT_SOLREF = (0.004, 1.0)
+OBJECT_SOLIMP = (0.95, 0.99, 0.001, 0.5, 2.0)
+#: How far outside the joint limits a trajectory point may lie (numerical slack) [rad].
+TRAJECTORY_LIMIT_SLACK_RAD = 1e-3
+#: Table height check tolerance [m].
+TABLE_TOP_TOLERANCE_M = 1e-6
+
+
+def object_body_name(obj: ObjectSpec | str) -> str:
+    """Body (and geom) name of an object in the model."""
+    return OBJECT_PREFIX + (obj if isinstance(obj, str) else obj.name)
+
+
+def build_scene_model(scene: SceneSpec, config: SimConfig) -> mujoco.MjModel:
+    """Compile robot + fixed set-up + the scene's objects into one ``MjModel``."""
+    spec = mujoco.MjSpec.from_file(str(asset_path(SCENE_BASE_XML)))
+    for obj in scene.objects:
+        body = spec.worldbody.add_body(name=object_body_name(obj), pos=list(obj.position_m),
+                                       quat=[math.cos(obj.yaw_rad / 2), 0.0, 0.0,
+                                             math.sin(obj.yaw_rad / 2)])
+        body.add_freejoint(name=object_body_name(obj) + "_free")
+        sx, sy, sz = obj.size_m
+        if obj.kind == "cylinder":
+            gtype, size = mujoco.mjtGeom.mjGEOM_CYLINDER, [sx / 2, sz / 2, 0.0]
+        else:
+            gtype, size = mujoco.mjtGeom.mjGEOM_BOX, [sx / 2, sy / 2, sz / 2]
+        body.add_geom(name=object_body_name(obj), type=gtype, size=size, rgba=list(obj.rgba),
+                      density=config.object_density_kg_m3, condim=OBJECT_CONDIM,
+                      solref=list(OBJECT_SOLREF), solimp=list(OBJECT_SOLIMP),
+                      friction=[config.object_friction, OBJECT_FRICTION_TORSION,
+                                OBJECT_FRICTION_ROLL])
+    try:
+        model = spec.compile()
+    except Exception as exc:
+        raise ModelError(f"cannot compile scene {scene.name!r}: {exc}") from exc
+    model.opt.timestep = config.timestep_s
+    return model
+
+
+class _Trajectory:
+    """A joint reference ``q(t)``, ``qd(t)`` on absolute simulated time."""
+
+    def __init__(self, t_abs: np.ndarray, q: np.ndarray, qd: np.ndarray | None):
+        self.t = t_abs
+        self.q = q
+        self.hermite = qd is not None
+        if qd is None:
+            dt = np.diff(t_abs)[:, None]
+            slope = np.diff(q, axis=0) / dt
+            self.qd = np.vstack([slope, np.zeros((1, q.shape[1]))]) if len(t_abs) > 1 else np.zeros_like(q)
+        else:
+            self.qd = qd
+
+    @property
+    def end_time_s(self) -> float:
+        return float(self.t[-1])
+
+    def sample(self, t: float) -> tuple[np.ndarray, np.ndarray]:
+        tt = self.t
+        if t <= tt[0]:
+            return self.q[0], (self.qd[0] * 0.0 if t < tt[0] else self.qd[0])
+        if t >= tt[-1]:
+            return self.q[-1], np.zeros_like(self.q[-1])
+        i = int(np.searchsorted(tt, t, side="right")) - 1
+        h = tt[i + 1] - tt[i]
+        s = (t - tt[i]) / h
+        q0, q1 = self.q[i], self.q[i + 1]
+        if not self.hermite:
+            return q0 + s * (q1 - q0), self.qd[i]
+        m0, m1 = self.qd[i] * h, self.qd[i + 1] * h
+        s2, s3 = s * s, s * s * s
+        q = ((2 * s3 - 3 * s2 + 1) * q0 + (s3 - 2 * s2 + s) * m0
+             + (-2 * s3 + 3 * s2) * q1 + (s3 - s2) * m1)
+        dq = ((6 * s2 - 6 * s) * q0 + (3 * s2 - 4 * s + 1) * m0
+              + (-6 * s2 + 6 * s) * q1 + (3 * s2 - 2 * s) * m1) / h
+        return q, dq
+
+
+class SimWorld:
+    """A running simulation of one scene.
+
+    Args:
+        scene: what stands on the table (default: :func:`~.scenes.reference_scene`).
+        sim_config: physics/gripper parameters (default: ``config/sim.yaml``).
+        camera_config: depth camera parameters (default: ``config/camera.yaml``).
+        camera: create the depth camera (False for physics-only use; ``capture`` then raises).
+
+    The arm starts at ``scene.start_q`` holding still, the gripper fully open.
+    Use as a context manager or call :meth:`close` to free the camera's GL context.
+    """
+
+    def __init__(self, scene: SceneSpec | None = None, sim_config: SimConfig | None = None,
+                 camera_config: CameraConfig | None = None, camera: bool = True):
+        self.config = sim_config if sim_config is not None else load_sim_config()
+        self.scene = scene if scene is not None else reference_scene(self.config)
+        self.model = build_scene_model(self.scene, self.config)
+        self.data = mujoco.MjData(self.model)
+        m = self.model
+        self._qpos_idx = arm_qpos_indices(m)
+        self._dof_idx = arm_dof_indices(m)
+        self._act_idx = np.array([m.actuator(n).id for n in PANDA_ACTUATOR_NAMES])
+        self._kv_over_kp = np.array([-m.actuator_biasprm[a, 2] / m.actuator_gainprm[a, 0]
+                                     for a in self._act_idx])
+        self._grip_act = m.actuator(GRIPPER_ACTUATOR).id
+        self._gap_tendon = m.tendon(FINGER_GAP_TENDON).id
+        self._finger_dofs = np.array([m.joint(n).dofadr[0] for n in FINGER_JOINT_NAMES])
+        self._finger_qpos = np.array([m.joint(n).qposadr[0] for n in FINGER_JOINT_NAMES])
+        self._flange_body = m.body(FLANGE_BODY).id
+        self._tcp_site = m.site(TCP_SITE).id
+        base_root = m.body(BASE_BODY).id
+        self._robot_geom = m.body_rootid[m.geom_bodyid] == base_root
+        self._check_table_height()
+
+        start_q = np.asarray(self.scene.start_q, dtype=float)
+        self.data.qpos[self._qpos_idx] = start_q
+        self.data.qpos[self._finger_qpos] = GRIPPER_MAX_WIDTH_M / 2
+        self._traj: _Trajectory | None = None
+        self._hold_q = start_q.copy()
+        self._grip_target_m = GRIPPER_MAX_WIDTH_M
+        self._grip_cmd_m = GRIPPER_MAX_WIDTH_M
+        self._grip_speed_mps = self.config.gripper_speed_mps
+        self._set_grip_effort(self.config.gripper_default_effort_N)
+        self._apply_controls()
+        mujoco.mj_forward(m, self.data)
+
+        cam_cfg = camera_config if camera_config is not None else load_camera_config()
+        self.camera_config = cam_cfg
+        self.camera: DepthCamera | None = DepthCamera(m, self.data, cam_cfg) if camera else None
+        self._next_frame_time_s = float(self.data.time)
+
+    # ------------------------------------------------------------------ lifecycle
+    def close(self) -> None:
+        """Free the camera's GL context."""
+        if self.camera is not None:
+            self.camera.close()
+
+    def __enter__(self) -> "SimWorld":
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def _check_table_height(self) -> None:
+        g = self.model.geom(TABLE_TOP_GEOM)
+        top = float(g.pos[2] + g.size[2])
+        if abs(top - self.scene.table_top_z_m) > TABLE_TOP_TOLERANCE_M:
+            raise ModelError(f"table top in {SCENE_BASE_XML} is at {top:.4f} m but the scene "
+                             f"expects {self.scene.table_top_z_m:.4f} m (sim.yaml table_top_z_m)")
+
+    # ------------------------------------------------------------------ readouts
+    @property
+    def time_s(self) -> float:
+        """Simulated time [s]."""
+        return float(self.data.time)
+
+    @property
+    def timestep_s(self) -> float:
+        return float(self.model.opt.timestep)
+
+    @property
+    def q(self) -> np.ndarray:
+        """Arm joint positions (7,) [rad] (a copy)."""
+        return self.data.qpos[self._qpos_idx].copy()
+
+    @property
+    def qd(self) -> np.ndarray:
+        """Arm joint velocities (7,) [rad/s] (a copy)."""
+        return self.data.qvel[self._dof_idx].copy()
+
+    @property
+    def finger_gap_m(self) -> float:
+        """Distance between the two fingertip pads [m] (0 closed, 0.08 fully open)."""
+        return float(self.data.ten_length[self._gap_tendon])
+
+    @property
+    def finger_speed_mps(self) -> float:
+        """Speed of one finger [m/s], signed: > 0 opening, < 0 closing (half the gap rate).
+        SPEC section 7's stall test compares ``abs(finger_speed_mps)`` with 0.005 m/s."""
+        return float(0.5 * self.data.ten_velocity[self._gap_tendon])
+
+    @property
+    def gripper_target_m(self) -> float:
+        """The finger gap last commanded with :meth:`set_gripper` [m]."""
+        return self._grip_target_m
+
+    @property
+    def gripper_force_N(self) -> float:
+        """Force of the gripper actuator (the squeeze force on a held object) [N], >= 0."""
+        return float(-self.data.actuator_force[self._grip_act])
+
+    def flange_pose(self) -> np.ndarray:
+        """World pose (4x4) of the flange."""
+        T = np.eye(4)
+        T[:3, :3] = self.data.xmat[self._flange_body].reshape(3, 3)
+        T[:3, 3] = self.data.xpos[self._flange_body]
+        return T
+
+    def tcp_pose(self) -> np.ndarray:
+        """World pose (4x4) of the TCP (between the fingertips; z = approach)."""
+        T = np.eye(4)
+        T[:3, :3] = self.data.site_xmat[self._tcp_site].reshape(3, 3)
+        T[:3, 3] = self.data.site_xpos[self._tcp_site]
+        return T
+
+    def camera_pose(self) -> np.ndarray:
+        """World pose (4x4) of the camera optical frame now."""
+        if self.camera is None:
+            raise ModelError("this SimWorld was created with camera=False")
+        return self.camera.pose()
+
+    # ------------------------------------------------------------------ arm control
+    def follow_trajectory(self, t_s: np.ndarray, q: np.ndarray, qd: np.ndarray | None = None,
+                          start_time_s: float | None = None) -> float:
+        """Set the arm's reference to a time-stamped joint trajectory; returns its end time.
+
+        Non-blocking: the reference is followed by subsequent :meth:`step` calls.
+
+        Args:
+            t_s: (K,) strictly increasing times [s], relative to ``start_time_s``
+                (usually starting at 0).
+            q: (K, 7) joint positions [rad], within the Panda's limits.
+            qd: optional (K, 7) joint velocities [rad/s]; with them the reference is a cubic
+                Hermite spline, without them piecewise linear.
+            start_time_s: absolute simulated time of ``t_s = 0``; default: now.
+
+        Before the first sample the arm holds ``q[0]``; after the last it holds ``q[-1]``.
+        A new call replaces the previous trajectory.
+        """
+        t = np.asarray(t_s, dtype=float).reshape(-1)
+        qq = np.asarray(q, dtype=float)
+        if qq.ndim != 2 or qq.shape[1] != 7 or qq.shape[0] != t.shape[0] or t.size == 0:
+            raise TrajectoryError(f"need t_s (K,) and q (K, 7); got {t.shape} and {qq.shape}")
+        if not (np.all(np.isfinite(t)) and np.all(np.isfinite(qq))):
+            raise TrajectoryError("trajectory contains NaN or Inf")
+        if t.size > 1 and np.any(np.diff(t) <= 0):
+            raise TrajectoryError("trajectory times must be strictly increasing")
+        slack = TRAJECTORY_LIMIT_SLACK_RAD
+        bad = np.any((qq < PANDA_Q_MIN - slack) | (qq > PANDA_Q_MAX + slack), axis=0)
+        if np.any(bad):
+            raise TrajectoryError(f"trajectory leaves the joint limits of joints "
+                                  f"{[int(i) + 1 for i in np.flatnonzero(bad)]}")
+        qdd = None
+        if qd is not None:
+            qdd = np.asarray(qd, dtype=float)
+            if qdd.shape != qq.shape or not np.all(np.isfinite(qdd)):
+                raise TrajectoryError(f"qd must be finite with shape {qq.shape}, got {qdd.shape}")
+        t0 = self.time_s if start_time_s is None else float(start_time_s)
+        self._traj = _Trajectory(t + t0, qq.copy(), None if qdd is None else qdd.copy())
+        return self._traj.end_time_s
+
+    def hold(self, q: np.ndarray | None = None) -> None:
+        """Drop the trajectory and hold ``q`` (default: the current joints)."""
+        self._traj = None
+        self._hold_q = self.q if q is None else np.asarray(q, dtype=float).reshape(7).copy()
+
+    @property
+    def trajectory_end_time_s(self) -> float | None:
+        """End time of the active trajectory (absolute), or None when holding."""
+        return None if self._traj is None else self._traj.end_time_s
+
+    def trajectory_done(self) -> bool:
+        """True when no trajectory is active or its last sample time has passed."""
+        return self._traj is None or self.time_s >= self._traj.end_time_s
+
+    def reference(self, t: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """The joint reference (q_ref, qd_ref) at time ``t`` (default: now)."""
+        t = self.time_s if t is None else t
+        if self._traj is None:
+            return self._hold_q, np.zeros(7)
+        return self._traj.sample(t)
+
+    # ------------------------------------------------------------------ gripper
+    def _set_grip_effort(self, effort_N: float) -> None:
+        self.model.actuator_forcerange[self._grip_act] = (-effort_N, effort_N)
+
+    def set_gripper(self, width_m: float, effort_N: float | None = None,
+                    speed_mps: float | None = None) -> None:
+        """Command the finger gap (non-blocking).
+
+        Args:
+            width_m: target gap between the pads, 0 .. 0.08 m. Closing on an object, command
+                less than its width: the fingers stall on it and squeeze with ``effort_N``.
+            effort_N: force limit of the gripper actuator = squeeze force at a stall
+                (default ``sim.yaml`` ``gripper_default_effort_N``; at most
+                ``gripper_max_effort_N``).
+            speed_mps: rate at which the commanded gap moves (default ``gripper_speed_mps``).
+        """
+        if not (0.0 <= width_m <= GRIPPER_MAX_WIDTH_M + 1e-9) or not math.isfinite(width_m):
+            raise GripperError(f"gripper width must be within 0..{GRIPPER_MAX_WIDTH_M} m, got {width_m}")
+        effort = self.config.gripper_default_effort_N if effort_N is None else float(effort_N)
+        if not 0.0 < effort <= self.config.gripper_max_effort_N:
+            raise GripperError(f"gripper effort must be in (0, {self.config.gripper_max_effort_N}] N,"
+                               f" got {effort}")
+        speed = self.config.gripper_speed_mps if speed_mps is None else float(speed_mps)
+        if speed <= 0:
+            raise GripperError(f"gripper speed must be > 0, got {speed}")
+        self._grip_target_m = min(float(width_m), GRIPPER_MAX_WIDTH_M)
+        self._grip_speed_mps = speed
+        self._set_grip_effort(effort)
+
+    # ------------------------------------------------------------------ stepping
+    def _apply_controls(self) -> None:
+        q_ref, qd_ref = self.reference()
+        self.data.ctrl[self._act_idx] = q_ref + self._kv_over_kp * qd_ref
+        if self._grip_cmd_m != self._grip_target_m:
+            step = self._grip_speed_mps * self.model.opt.timestep
+            diff = self._grip_target_m - self._grip_cmd_m
+            self._grip_cmd_m = self._grip_target_m if abs(diff) <= step else self._grip_cmd_m + math.copysign(step, diff)
+        self.data.ctrl[self._grip_act] = self._grip_cmd_m
+
+    def step(self, n: int = 1) -> None:
+        """Advance the physics by ``n`` steps, updating the controls before each."""
+        m, d = self.model, self.data
+        for _ in range(n):
+            self._apply_controls()
+            mujoco.mj_step(m, d)
+
+    def run_until(self, until: float | Callable[["SimWorld"], bool], *,
+                  max_duration_s: float | None = None,
+                  on_frame: Callable[[Frame], None] | None = None) -> bool:
+        """Step until a time or a condition (blocking).
+
+        Args:
+            until: an absolute simulated time [s], or a predicate ``f(world) -> bool`` tested
+                after every step.
+            max_duration_s: give up after this much simulated time (required with a predicate
+                unless you are sure it becomes true).
+            on_frame: if given, depth frames are captured at the camera rate (simulated time)
+                and passed to it.
+
+        Returns True when the time was reached / the predicate became true, False on timeout.
+        """
+        t_limit = math.inf if max_duration_s is None else self.time_s + max_duration_s
+        if callable(until):
+            def done() -> bool:
+                return bool(until(self))
+        else:
+            t_goal = float(until)
+
+            def done() -> bool:
+                return self.time_s >= t_goal - 0.5 * self.timestep_s
+        while not done():
+            if self.time_s >= t_limit - 0.5 * self.timestep_s:
+                return False
+            self.step()
+            if on_frame is not None:
+                frame = self.poll_frame()
+                if frame is not None:
+                    on_frame(frame)
+        return True
+
+    # ------------------------------------------------------------------ camera
+    def capture(self) -> Frame:
+        """A depth frame of the current state; its pose and time are those of this instant."""
+        if self.camera is None:
+            raise ModelError("this SimWorld was created with camera=False")
+        # After mj_step the kinematics in data are those of the previous state; bring them to
+        # the current qpos so the image, the pose and time_s all describe the same instant.
+        mujoco.mj_kinematics(self.model, self.data)
+        mujoco.mj_camlight(self.model, self.data)
+        return self.camera.capture()
+
+    def poll_frame(self) -> Frame | None:
+        """A frame if one is due at the camera rate (simulated time), else None."""
+        if self.camera is None or self.time_s + 1e-9 < self._next_frame_time_s:
+            return None
+        period = self.camera_config.period_s
+        self._next_frame_time_s += period
+        if self._next_frame_time_s <= self.time_s:  # fell behind (e.g. after a long step)
+            self._next_frame_time_s = self.time_s + period
+        return self.capture()
+
+    # ------------------------------------------------------------------ contacts
+    def geom_name(self, geom_id: int) -> str:
+        name = self.model.geom(geom_id).name
+        return name if name else f"geom{geom_id}"
+
+    def is_robot_geom(self, geom_id: int) -> bool:
+        return bool(self._robot_geom[geom_id])
+
+    def robot_contacts(self, include_objects: bool = True) -> list[tuple[str, str]]:
+        """Active contacts between robot geoms and non-robot geoms, as
+        ``(robot_geom_name, other_geom_name)`` pairs (one entry per contact point).
+
+        ``include_objects=False`` leaves out contacts with the graspable objects (``obj_*``),
+        i.e. lists only robot-environment contacts (table, floor, wall, tray).
+        """
+        out: list[tuple[str, str]] = []
+        d = self.data
+        for i in range(d.ncon):
+            c = d.contact[i]
+            g1, g2 = int(c.geom1), int(c.geom2)
+            r1, r2 = self._robot_geom[g1], self._robot_geom[g2]
+            if r1 == r2:
+                continue
+            rg, og = (g1, g2) if r1 else (g2, g1)
+            other = self.geom_name(og)
+            if not include_objects and other.startswith(OBJECT_PREFIX):
+                continue
+            out.append((self.geom_name(rg), other))
+        return out
