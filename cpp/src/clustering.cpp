@@ -1,10 +1,7 @@
-#include <cstdio>
-#include <cstdlib>
-// SPEC 1.4 — Euclidean clustering (PCL semantics) with an exact voxel fast path.
+// SPEC 1.4 — Euclidean clustering (PCL semantics) with an exact grid fast path.
 // See clustering.hpp for the algorithm and the labelling rules.
 #include "grasp_core/clustering.hpp"
 
-#include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 #include <pcl/search/kdtree.h>
@@ -15,6 +12,8 @@
 #include <limits>
 #include <memory>
 #include <numeric>
+#include <tuple>
+#include <unordered_map>
 #include <stdexcept>
 #include <utility>
 
@@ -100,13 +99,56 @@ std::vector<int> components_exact(const PointView& pts, const std::vector<int>& 
   return comp;
 }
 
-/// Fast path (exact): voxels + PCL kd-tree over voxel centroids + explicit pair checks.
-/// Returns std::nullopt-like empty vector if the cloud is too large for the voxel keys.
-bool components_voxel(const PointView& pts, const std::vector<int>& finite, double eps_m,
-                      double voxel_m, std::vector<int>& comp) {
+/// Axis-aligned box of a set of points (float, as the points are).
+struct Box {
+  Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::infinity());
+  Eigen::Vector3f hi = Eigen::Vector3f::Constant(-std::numeric_limits<float>::infinity());
+  void add(const float* p) {
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], p[a]);
+      hi[a] = std::max(hi[a], p[a]);
+    }
+  }
+};
+
+/// Squared distance from p to box b (0 inside), double.
+double sq_dist_point_box(const float* p, const Box& b) {
+  double s = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    const double g = std::max({static_cast<double>(b.lo[a]) - p[a], 0.0,
+                               static_cast<double>(p[a]) - b.hi[a]});
+    s += g * g;
+  }
+  return s;
+}
+
+/// Smallest and largest distance between any two points of boxes a and b, double.
+void box_distance_bounds(const Box& a, const Box& b, double& min_d, double& max_d) {
+  double s_min = 0.0, s_max = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double gap = std::max({static_cast<double>(a.lo[k]) - b.hi[k], 0.0,
+                                 static_cast<double>(b.lo[k]) - a.hi[k]});
+    const double span = std::max(static_cast<double>(a.hi[k]) - b.lo[k],
+                                 static_cast<double>(b.hi[k]) - a.lo[k]);
+    s_min += gap * gap;
+    s_max += span * span;
+  }
+  min_d = std::sqrt(s_min);
+  max_d = std::sqrt(s_max);
+}
+
+constexpr int kKeyBits = 21;                       ///< bits per axis in a cell key
+constexpr std::uint64_t kKeyMask = (1ULL << kKeyBits) - 1;
+
+/// Fast path, exact: a uniform grid of edge eps/sqrt(3) (so a cell is connected inside),
+/// cells joined by union-find when some point pair across them is within eps.
+/// Returns false (caller falls back to the reference path) if the cloud spans more cells
+/// than the keys can hold.
+bool components_grid(const PointView& pts, const std::vector<int>& finite, double eps_m,
+                     std::vector<int>& comp) {
   const std::size_t n = finite.size();
-  // Leaf capped so that two points of one voxel are always within eps (diagonal < eps).
-  const double leaf = std::min(voxel_m, eps_m / std::sqrt(3.0) * (1.0 - 1e-6));
+  // Slightly under eps/sqrt(3): two points of one cell are < eps apart even after rounding.
+  const double edge = eps_m / std::sqrt(3.0) * (1.0 - 1e-6);
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector3d hi = -lo;
   for (const int i : finite) {
@@ -116,72 +158,72 @@ bool components_voxel(const PointView& pts, const std::vector<int>& finite, doub
       hi[a] = std::max(hi[a], static_cast<double>(p[a]));
     }
   }
-  constexpr double kMaxCells = static_cast<double>(1 << 21);  // 21 bits per axis in the key
+  // Cell coordinates live in [2, 2^21 - 3]: the +-2 neighbour offsets never wrap.
+  constexpr double kMaxCells = static_cast<double>(kKeyMask) - 4.0;
   for (int a = 0; a < 3; ++a)
-    if (!((hi[a] - lo[a]) / leaf < kMaxCells - 1.0)) return false;
+    if (!((hi[a] - lo[a]) / edge < kMaxCells)) return false;
 
-  // Sort points by voxel key: each voxel is a contiguous run.
-  std::vector<std::pair<std::uint64_t, int>> keyed(n);
+  // Cell of every point (ids in order of first appearance), then a counting sort so
+  // that each cell's points are contiguous: cell c = order[start[c] .. start[c+1]).
+  std::unordered_map<std::uint64_t, int> cell_of_key;
+  cell_of_key.reserve(n / 4 + 16);
+  std::vector<std::uint64_t> cell_key;
+  std::vector<int> cell_of_point(n);
   for (std::size_t k = 0; k < n; ++k) {
     const float* p = pts.at(finite[k]);
     std::uint64_t key = 0;
     for (int a = 0; a < 3; ++a) {
-      const auto cell = static_cast<std::uint64_t>(std::floor((p[a] - lo[a]) / leaf));
-      key |= cell << (21 * a);
+      const auto cell = static_cast<std::uint64_t>(std::floor((p[a] - lo[a]) / edge)) + 2;
+      key |= std::min(cell, kKeyMask - 2) << (kKeyBits * a);
     }
-    keyed[k] = {key, static_cast<int>(k)};
+    const auto ins = cell_of_key.emplace(key, static_cast<int>(cell_key.size()));
+    if (ins.second) cell_key.push_back(key);
+    cell_of_point[k] = ins.first->second;
   }
-  std::sort(keyed.begin(), keyed.end());
-
-  std::vector<int> order(n);          // point (index into finite) in voxel order
-  std::vector<int> start;             // voxel v = order[start[v] .. start[v+1])
-  for (std::size_t k = 0; k < n; ++k) {
-    order[k] = keyed[k].second;
-    if (k == 0 || keyed[k].first != keyed[k - 1].first) start.push_back(static_cast<int>(k));
+  const int n_cells = static_cast<int>(cell_key.size());
+  std::vector<int> start(static_cast<std::size_t>(n_cells) + 1, 0);
+  for (const int c : cell_of_point) ++start[static_cast<std::size_t>(c) + 1];
+  for (int c = 0; c < n_cells; ++c) start[c + 1] += start[c];
+  std::vector<int> order(n);
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (std::size_t k = 0; k < n; ++k) order[static_cast<std::size_t>(fill[cell_of_point[k]]++)] = static_cast<int>(k);
   }
-  const int n_vox = static_cast<int>(start.size());
-  start.push_back(static_cast<int>(n));
+  std::vector<Box> box(static_cast<std::size_t>(n_cells));
+  for (int c = 0; c < n_cells; ++c)
+    for (int k = start[c]; k < start[c + 1]; ++k) box[c].add(pts.at(finite[order[k]]));
 
-  // Centroids and radii (largest point-to-centroid distance) per voxel.
-  auto centroids = std::make_shared<Cloud>();
-  centroids->resize(static_cast<std::size_t>(n_vox));
-  std::vector<double> radius(static_cast<std::size_t>(n_vox), 0.0);
-  double r_max = 0.0;
-  for (int v = 0; v < n_vox; ++v) {
-    Eigen::Vector3d c = Eigen::Vector3d::Zero();
-    for (int k = start[v]; k < start[v + 1]; ++k)
-      c += Eigen::Map<const Eigen::Vector3f>(pts.at(finite[order[k]])).cast<double>();
-    c /= static_cast<double>(start[v + 1] - start[v]);
-    double r = 0.0;
-    for (int k = start[v]; k < start[v + 1]; ++k)
-      r = std::max(r, (Eigen::Map<const Eigen::Vector3f>(pts.at(finite[order[k]])).cast<double>() - c).norm());
-    (*centroids)[static_cast<std::size_t>(v)] = pcl::PointXYZ(static_cast<float>(c.x()), static_cast<float>(c.y()), static_cast<float>(c.z()));
-    radius[static_cast<std::size_t>(v)] = r;
-    r_max = std::max(r_max, r);
-  }
+  // Half of the 5x5x5 neighbourhood (offsets lexicographically > 0): each pair once.
+  // Cells up to 2 apart per axis can hold points within eps (edge = eps/sqrt(3)).
+  std::vector<std::int64_t> offsets;
+  for (int dz = -2; dz <= 2; ++dz)
+    for (int dy = -2; dy <= 2; ++dy)
+      for (int dx = -2; dx <= 2; ++dx) {
+        if (std::make_tuple(dz, dy, dx) <= std::make_tuple(0, 0, 0)) continue;
+        offsets.push_back(static_cast<std::int64_t>(dx) +
+                          (static_cast<std::int64_t>(dy) << kKeyBits) +
+                          (static_cast<std::int64_t>(dz) << (2 * kKeyBits)));
+      }
 
-  // Voxel adjacency: a kd-tree over the centroids proposes pairs, exact checks decide.
   const float eps_sq = static_cast<float>(eps_m * eps_m);
-  // Float slack on the proposal radius so that rounding can never hide a true edge.
-  const double slack = 1e-5 * (eps_m + 2.0 * r_max) + 1e-6;
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree(/*sorted=*/false);
-  tree.setInputCloud(centroids);
-  DisjointSets sets(static_cast<std::size_t>(n_vox));
-  pcl::Indices nbr;
-  std::vector<float> nbr_sq;
-  for (int v = 0; v < n_vox; ++v) {
-    const pcl::PointXYZ& cv = (*centroids)[static_cast<std::size_t>(v)];
-    tree.radiusSearch(cv, eps_m + 2.0 * r_max + slack, nbr, nbr_sq);
-    for (std::size_t j = 0; j < nbr.size(); ++j) {
-      const int u = nbr[j];
-      if (u <= v) continue;  // each pair once
+  // Rounding slack for the double-precision box bounds (the final word is the float test).
+  const double slack = 1e-6 * (eps_m + 1.0);
+  const double eps_sq_prune = (eps_m + slack) * (eps_m + slack);
+  DisjointSets sets(static_cast<std::size_t>(n_cells));
+  for (int v = 0; v < n_cells; ++v) {
+    for (const std::int64_t off : offsets) {
+      const auto key_u = static_cast<std::uint64_t>(static_cast<std::int64_t>(cell_key[v]) + off);
+      const auto it = cell_of_key.find(key_u);
+      if (it == cell_of_key.end()) continue;
+      const int u = it->second;
       if (sets.find(u) == sets.find(v)) continue;
-      const double d = std::sqrt(static_cast<double>(nbr_sq[j]));
-      const double ru = radius[static_cast<std::size_t>(u)], rv = radius[static_cast<std::size_t>(v)];
-      if (d > eps_m + ru + rv + slack) continue;  // no point pair can be within eps
-      bool linked = d + ru + rv + slack < eps_m;   // every point pair is within eps
+      double min_d = 0.0, max_d = 0.0;
+      box_distance_bounds(box[v], box[u], min_d, max_d);
+      if (min_d > eps_m + slack) continue;  // no pair can be within eps
+      bool linked = max_d < eps_m - slack;   // every pair is within eps
       for (int a = start[v]; a < start[v + 1] && !linked; ++a) {
         const float* p = pts.at(finite[order[a]]);
+        if (sq_dist_point_box(p, box[u]) > eps_sq_prune) continue;
         for (int b = start[u]; b < start[u + 1]; ++b) {
           if (within(p, pts.at(finite[order[b]]), eps_sq)) {
             linked = true;
@@ -193,11 +235,10 @@ bool components_voxel(const PointView& pts, const std::vector<int>& finite, doub
     }
   }
 
-  if (getenv("SF_DEBUG")) fprintf(stderr, "n=%zu vox=%d rmax=%.4f leaf=%.4f\n", n, n_vox, r_max, leaf);
   comp.assign(n, -1);
-  for (int v = 0; v < n_vox; ++v) {
-    const int root = sets.find(v);
-    for (int k = start[v]; k < start[v + 1]; ++k) comp[static_cast<std::size_t>(order[k])] = root;
+  for (int c = 0; c < n_cells; ++c) {
+    const int root = sets.find(c);
+    for (int k = start[c]; k < start[c + 1]; ++k) comp[static_cast<std::size_t>(order[k])] = root;
   }
   return true;
 }
@@ -233,7 +274,7 @@ ClusterResult euclidean_clusters(const float* xyz, std::size_t n_rows,
 
   std::vector<int> comp;
   const bool fast = std::isfinite(voxel_m) && voxel_m > 0.0 &&
-                    components_voxel(pts, finite, eps_m, voxel_m, comp);
+                    components_grid(pts, finite, eps_m, comp);
   if (!fast) comp = components_exact(pts, finite, eps_m);
 
   // Per component: size, first point, AABB on the original points.

@@ -76,9 +76,14 @@ double angle_dist_mod_pi(double a_rad, double b_rad) {
 
 double median(std::vector<double> v) {
   if (v.empty()) return kNaN;
-  std::sort(v.begin(), v.end());
+  // Selection instead of a full sort: O(n). For an even count the lower middle value is
+  // the largest element of the lower half, found after the upper one is in place.
   const std::size_t k = v.size() / 2;
-  return (v.size() % 2 == 1) ? v[k] : 0.5 * (v[k - 1] + v[k]);
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  const double upper = v[k];
+  if (v.size() % 2 == 1) return upper;
+  const double lower = *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k));
+  return 0.5 * (lower + upper);
 }
 
 double circular_median_mod_pi(const std::vector<double>& angles_rad, double reference_rad) {
@@ -129,10 +134,49 @@ double extent_along(const std::vector<double>& a, const std::vector<double>& b, 
   return span;
 }
 
+namespace {
+
+/// Vertices of the 2-D convex hull of (a, b) (Andrew's monotone chain), as two coordinate
+/// lists. The max and min of a*cos + b*sin over a point set are attained at hull vertices,
+/// and the vertices are original points, so spans over the hull equal spans over all
+/// points exactly -- at a fraction of the cost (a 5 cm top face: ~3k points, ~40 vertices).
+void convex_hull_2d(const std::vector<double>& a, const std::vector<double>& b,
+                    std::vector<double>* ha, std::vector<double>* hb) {
+  const std::size_t n = std::min(a.size(), b.size());
+  std::vector<std::size_t> idx(n);
+  for (std::size_t i = 0; i < n; ++i) idx[i] = i;
+  std::sort(idx.begin(), idx.end(), [&](std::size_t i, std::size_t j) {
+    return a[i] < a[j] || (a[i] == a[j] && b[i] < b[j]);
+  });
+  if (n < 3) {
+    for (std::size_t i : idx) { ha->push_back(a[i]); hb->push_back(b[i]); }
+    return;
+  }
+  auto cross = [&](std::size_t o, std::size_t p, std::size_t q) {
+    return (a[p] - a[o]) * (b[q] - b[o]) - (b[p] - b[o]) * (a[q] - a[o]);
+  };
+  std::vector<std::size_t> hull(2 * n);
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < n; ++i) {  // lower hull
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], idx[i]) <= 0) --k;
+    hull[k++] = idx[i];
+  }
+  for (std::size_t i = n - 1, lower = k + 1; i-- > 0;) {  // upper hull
+    while (k >= lower && cross(hull[k - 2], hull[k - 1], idx[i]) <= 0) --k;
+    hull[k++] = idx[i];
+  }
+  hull.resize(k > 1 ? k - 1 : k);
+  for (std::size_t i : hull) { ha->push_back(a[i]); hb->push_back(b[i]); }
+}
+
+}  // namespace
+
 std::vector<double> width_scan(const std::vector<double>& a, const std::vector<double>& b,
                                int n_theta) {
   std::vector<double> ext(static_cast<std::size_t>(std::max(n_theta, 0)), 0.0);
-  for (int t = 0; t < n_theta; ++t) ext[t] = extent_along(a, b, scan_angle_rad(t, n_theta));
+  std::vector<double> ha, hb;
+  convex_hull_2d(a, b, &ha, &hb);
+  for (int t = 0; t < n_theta; ++t) ext[t] = extent_along(ha, hb, scan_angle_rad(t, n_theta));
   return ext;
 }
 

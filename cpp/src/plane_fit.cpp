@@ -12,6 +12,8 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <mutex>
+#include <vector>
 
 namespace grasp_core {
 namespace {
@@ -39,6 +41,15 @@ class SeededPerpendicularPlane : public pcl::SampleConsensusModelPerpendicularPl
   SeededPerpendicularPlane(const Cloud::ConstPtr& cloud, std::uint32_t seed)
       : pcl::SampleConsensusModelPerpendicularPlane<pcl::PointXYZ>(cloud, /*random=*/false) {
     rng_alg_.seed(seed);
+    // Structure-of-arrays copy of the searched points for the scoring loop.
+    xs_.reserve(cloud->size());
+    ys_.reserve(cloud->size());
+    zs_.reserve(cloud->size());
+    for (const auto& p : *cloud) {
+      xs_.push_back(p.x);
+      ys_.push_back(p.y);
+      zs_.push_back(p.z);
+    }
   }
 
   std::size_t countWithinDistance(const Eigen::VectorXf& model_coefficients,
@@ -47,14 +58,26 @@ class SeededPerpendicularPlane : public pcl::SampleConsensusModelPerpendicularPl
     const float a = model_coefficients[0], b = model_coefficients[1],
                 c = model_coefficients[2], d = model_coefficients[3];
     const float t = float_threshold(threshold);
-    const Cloud& cloud = *input_;
     std::size_t count = 0;
+    if (indices_->size() == xs_.size()) {  // the constructor's identity indices: SoA loop
+      const std::size_t n = xs_.size();
+      const float* x = xs_.data();
+      const float* y = ys_.data();
+      const float* z = zs_.data();
+      unsigned int cnt = 0;
+      for (std::size_t i = 0; i < n; ++i) cnt += std::abs(a * x[i] + b * y[i] + c * z[i] + d) < t;
+      return cnt;
+    }
+    const Cloud& cloud = *input_;
     for (const auto i : *indices_) {
       const pcl::PointXYZ& p = cloud[static_cast<std::size_t>(i)];
       count += std::abs(a * p.x + b * p.y + c * p.z + d) < t ? 1 : 0;
     }
     return count;
   }
+
+ private:
+  std::vector<float> xs_, ys_, zs_;
 };
 
 /// PCL's RANSAC, exposing the number of scored models.
@@ -65,18 +88,38 @@ class CountingRansac : public pcl::RandomSampleConsensus<pcl::PointXYZ> {
 };
 
 /// PCL reports routine outcomes ("RANSAC found no model", collinear samples) with
-/// PCL_ERROR on stderr; for us they are normal results. Silence PCL for the scope.
+/// PCL_ERROR on stderr; for us they are normal results. PCL's verbosity is one process-wide
+/// variable, so the quiet scope is reference-counted under a mutex: the first scope to open
+/// saves the level, the last one to close restores it (safe with concurrent filters).
 class QuietPcl {
  public:
-  QuietPcl() : saved_(pcl::console::getVerbosityLevel()) {
-    pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
+  QuietPcl() {
+    const std::lock_guard<std::mutex> lock(mutex());
+    if (depth()++ == 0) {
+      saved() = pcl::console::getVerbosityLevel();
+      pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
+    }
   }
-  ~QuietPcl() { pcl::console::setVerbosityLevel(saved_); }
+  ~QuietPcl() {
+    const std::lock_guard<std::mutex> lock(mutex());
+    if (--depth() == 0) pcl::console::setVerbosityLevel(saved());
+  }
   QuietPcl(const QuietPcl&) = delete;
   QuietPcl& operator=(const QuietPcl&) = delete;
 
  private:
-  pcl::console::VERBOSITY_LEVEL saved_;
+  static std::mutex& mutex() {
+    static std::mutex m;
+    return m;
+  }
+  static int& depth() {
+    static int d = 0;
+    return d;
+  }
+  static pcl::console::VERBOSITY_LEVEL& saved() {
+    static pcl::console::VERBOSITY_LEVEL v = pcl::console::L_INFO;
+    return v;
+  }
 };
 
 /// SplitMix64 finaliser: spreads a 64-bit seed onto the 32 bits boost::mt19937 accepts.
@@ -132,6 +175,8 @@ std::optional<Plane> least_squares_plane(const Cloud& cloud, const pcl::Indices&
 
 std::optional<PlaneFit> fit_cloud(const Cloud::ConstPtr& cloud, const SceneFilterParams& params,
                                   std::uint64_t seed) {
+  // Also guards PCL: an eps angle of 0 would silently switch its tilt check off.
+  params.validate();
   if (cloud->size() < 3 || params.plane_ransac_iters < 1) return std::nullopt;
   const double max_tilt_rad = params.plane_max_tilt_deg * M_PI / 180.0;
 

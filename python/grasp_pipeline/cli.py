@@ -4,6 +4,8 @@ Sub-commands:
   demo                      the default headless demo (see README)
   bench perception|sim|planning
                             benchmarks that print figures and write JSON
+  perceive FILE             one point cloud from disk (.pcd/.ply/.npy) through the
+                            scene filter and estimates; prints, writes JSON (+ PNG)
 
 Every sub-command accepts ``--log-level``. Each sub-command's work lives in its
 own module; this file only parses arguments and dispatches.
@@ -44,6 +46,31 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
     pl.add_argument("--json", type=Path, required=True)
 
 
+def _add_perceive(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "perceive", help="table plane + object estimates of one point-cloud file",
+        description="Run the scene filter and the object estimates on one point cloud from "
+                    "disk (.pcd, .ply or .npy; coordinates in metres). Say where the world "
+                    "frame (z up) is with --T-world-camera or --up. Example: grasp-pipeline "
+                    "perceive scan.pcd --up 0 -0.64 -0.77 --json out.json --png out.png")
+    p.add_argument("file", type=Path, help="point cloud: .pcd (any encoding), .ply, .npy "
+                   "((N,3) or organized (H,W,3))")
+    frame = p.add_mutually_exclusive_group(required=True)
+    frame.add_argument("--T-world-camera", dest="T_world_camera", nargs="+", metavar="V",
+                       help="16 numbers (or one comma-separated string), row-major 4x4 rigid "
+                            "transform mapping the cloud's frame into world (z up); write FILE "
+                            "before this option")
+    frame.add_argument("--up", nargs=3, type=float, metavar=("X", "Y", "Z"),
+                       help="world up (+z) as a vector in the cloud's frame; the world origin "
+                            "is then the cloud's origin (the camera)")
+    p.add_argument("--json", type=Path, required=True, help="where to write the JSON report")
+    p.add_argument("--png", type=Path, default=None, help="also write an RViz-like PNG snapshot")
+    p.add_argument("--config", default=None, metavar="FILE",
+                   help="YAML with sections scene_filter / obb overriding the defaults")
+    p.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
+                   help="override one parameter (repeatable), e.g. --set cluster_eps=0.02")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="grasp-pipeline", description=__doc__.splitlines()[0])
     parser.add_argument("--log-level", default="INFO",
@@ -51,6 +78,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True)
     sub.add_parser("demo", help="run the default headless demo")
     _add_bench(sub)
+    _add_perceive(sub)
     return parser
 
 
@@ -79,6 +107,13 @@ def _run(args: argparse.Namespace) -> int:
 
             _print_json(run_planning_benchmark(scenes=args.scenes, seed=args.seed,
                                                json_path=args.json))
+        return 0
+    if args.command == "perceive":
+        from .perceive import run_perceive
+
+        run_perceive(args.file, T_world_camera=args.T_world_camera, up=args.up,
+                     json_path=args.json, png_path=args.png, config_file=args.config,
+                     sets=args.sets)
         return 0
     raise AssertionError(f"unhandled command {args.command}")
 

@@ -3,7 +3,7 @@
 // Semantics are PCL's Euclidean cluster extraction: clusters are the connected components
 // of the graph joining points at distance <= eps. With voxel_m == 0 the components are
 // computed by pcl::EuclideanClusterExtraction on every point (the reference). With
-// voxel_m > 0 the SAME partition is computed faster (see euclidean_clusters()).
+// voxel_m > 0 the SAME partition is computed on a grid, faster (see euclidean_clusters()).
 #pragma once
 
 #include "grasp_core/types.hpp"
@@ -40,17 +40,20 @@ struct ClusterResult {
 /// Labels are compact: accepted clusters get 0 .. K-1 by decreasing point count (ties:
 /// lowest first point index), so the labelling is a deterministic function of the partition.
 ///
-/// Fast path (voxel_m > 0), exact w.r.t. the per-point semantics:
-///  1. hash the points into voxels of leaf min(voxel_m, eps/sqrt(3)) (the cap makes any
-///     two points of one voxel <= eps apart, so a voxel is always connected inside);
-///  2. a PCL kd-tree over the voxel centroids proposes voxel pairs whose centroids are
-///     within eps + 2 r_max (r_max = largest point-to-centroid distance of any voxel), a
-///     necessary condition for any point pair within eps;
-///  3. a proposed pair is joined (union-find) at once if its centroid distance is
-///     <= eps - 2 r_max (then every point pair is within eps), otherwise only if an
-///     explicit check finds one point pair within eps;
-///  4. component labels are mapped back to every original point; cluster_min_points and
-///     the extents are evaluated on the original points.
+/// Fast path (voxel_m > 0) — exact, the same partition as the reference path:
+///  1. hash the points into a uniform grid of edge eps/sqrt(3) (any two points of one cell
+///     are then within eps, so every cell is connected inside);
+///  2. for each pair of occupied cells at most 2 cells apart per axis (the only ones that can
+///     hold a pair within eps) not yet in one component: skip if their point boxes are more
+///     than eps apart, join if the boxes are entirely within eps, otherwise join iff an
+///     explicit check finds a point pair within eps (the distance test of PCL's kd-tree:
+///     float squared distance strictly below eps^2);
+///  3. component labels are mapped back to every original point; min_points and the
+///     extents are evaluated on the original points.
+/// The grid edge is fixed by eps (it is what makes the path both exact and fast: ~1 ms for
+/// ~9k points where the reference takes ~0.2-0.3 s), so voxel_m only selects the path: any
+/// value > 0 gives the same result. Clouds spanning more than 2^21 grid cells per axis fall
+/// back to the reference path.
 /// eps_m must be > 0 (else std::invalid_argument); min_points < 1 acts as 1.
 ClusterResult euclidean_clusters(const float* xyz, std::size_t n_rows,
                                  std::size_t row_stride_floats, double eps_m, int min_points,

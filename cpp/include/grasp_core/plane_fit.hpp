@@ -49,6 +49,7 @@ struct PlaneFit {
 ///   than plane_max_tilt_deg from +z (degenerate inlier set), the unrefined RANSAC model
 ///   is kept (refined = false).
 /// Returns std::nullopt for fewer than 3 finite points or when no valid model was found.
+/// Throws std::invalid_argument (naming the parameter) if `params` is invalid.
 std::optional<PlaneFit> fit_plane_ransac(const PointsD& points, const SceneFilterParams& params,
                                          std::uint64_t seed);
 /// Same, float input.

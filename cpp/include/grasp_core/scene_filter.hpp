@@ -9,7 +9,6 @@
 #include "grasp_core/plane_persistence.hpp"
 #include "grasp_core/types.hpp"
 
-#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -33,7 +32,11 @@ struct PlaneCandidate {
 /// plane; accepted if the RANSAC model has >= plane_min_inlier_ratio x subsample size
 /// inliers in the subsample; its inliers (w.r.t. the plane kept) are removed from the whole
 /// remainder. Stops after plane_max_count planes, at the first rejected/absent model, or
-/// when fewer than 3 points remain.
+/// when fewer than 3 points remain. Non-finite rows are skipped; coordinates are processed
+/// as float (double input is converted). Throws std::invalid_argument on invalid params,
+/// stride < 3 or a null buffer with n_rows > 0.
+/// (The PointsF/PointsD overloads need a concrete matrix: an Eigen expression such as
+/// PointsD::Constant(...) matches both and is ambiguous.)
 std::vector<PlaneCandidate> extract_planes(const float* xyz, std::size_t n_rows,
                                            std::size_t row_stride_floats,
                                            const SceneFilterParams& params, std::uint64_t seed);
@@ -69,7 +72,7 @@ struct SceneFilterResult {
   PlaneDecision decision = PlaneDecision::kNoPlane;
   PersistenceState persistence;      ///< lock state after this frame
   std::vector<FrameEvent> events;    ///< log lines for the caller
-  double ms_plane = 0.0;             ///< plane extraction + table choice [ms]
+  double ms_plane = 0.0;             ///< plane extraction + table choice + persistence [ms]
   double ms_cluster = 0.0;           ///< band split + clustering [ms]
   double ms_total = 0.0;             ///< whole process() call [ms]
 };
@@ -85,6 +88,9 @@ class SceneFilter {
   /// Process one N x 3 frame in `world`. Row i starts at xyz + i * row_stride (in elements,
   /// >= 3; a numpy (N,3) C-contiguous array has stride 3). No copy of the caller's array is
   /// kept. Throws std::invalid_argument on stride < 3 or xyz == nullptr with n_rows > 0.
+  /// Coordinates are processed as float (double input is converted; float resolution is
+  /// < 0.1 um at workspace scale); a double beyond float range counts as non-finite.
+  /// Every call is one frame: it advances frame_index() and the persistence state.
   SceneFilterResult process(const float* xyz, std::size_t n_rows, std::size_t row_stride);
   SceneFilterResult process(const double* xyz, std::size_t n_rows, std::size_t row_stride);
   SceneFilterResult process(const PointsF& points);
@@ -97,9 +103,7 @@ class SceneFilter {
   void reset();
 
  private:
-  SceneFilterResult process_packed(const std::vector<float>& packed_xyz,
-                                   const std::vector<int>& valid_rows, std::size_t n_rows,
-                                   std::chrono::steady_clock::time_point t0);
+  std::uint64_t next_frame_seed();  ///< seed of the frame being processed; advances the count
 
   SceneFilterParams params_;
   PlanePersistence persistence_;

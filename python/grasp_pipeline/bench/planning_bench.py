@@ -34,6 +34,9 @@ import numpy as np
 
 log = logging.getLogger(__name__)
 
+#: The open gripper must exceed the object's width by at least this much [m].
+GRIPPER_CLEARANCE_M = 0.01
+
 
 def _median(x: list[float]) -> float:
     return float(np.median(x)) if x else float("nan")
@@ -70,6 +73,9 @@ def run_planning_benchmark(scenes: int, seed: int, json_path: str | Path | None)
         scene = random_scene(seed + k)
         with SimWorld(scene) as world:
             start_q = world.q.copy()
+            # plans start from the joints the arm was last commanded to (it holds them; the
+            # measured joints differ by the servo's steady-state error, < settle tolerance)
+            q_cmd = [start_q.copy()]
             perceived = perceive_scene(world)
             t_env = time.perf_counter()
             mp.set_scene(perceived.environment_points, perceived.object_boxes, capture_q=perceived.capture_q)
@@ -93,6 +99,7 @@ def run_planning_benchmark(scenes: int, seed: int, json_path: str | Path | None)
                 try:
                     rep = ex.execute(traj, allowed_contact_prefixes=allowed)
                     rec.update(max_tracking_error_rad=rep.max_tracking_error_rad)
+                    q_cmd[0] = traj.q[-1].copy()
                 except ExecutionError as exc:
                     rec["error"] = f"ExecutionError({exc.reason}): {exc}"
                     if exc.reason == "contact":
@@ -100,39 +107,66 @@ def run_planning_benchmark(scenes: int, seed: int, json_path: str | Path | None)
                         contact_examples.append(f"{scene.name} {kind}: {exc}")
                     log.warning("%s %s: %s", scene.name, kind, rec["error"])
                     world.hold()
+                    q_cmd[0] = world.q.copy()
                     return False
                 rec["ok"] = True
                 return True
 
             def back_to_start(kind: str) -> bool:
-                return run(kind, lambda: mp.plan_path_to_joints(world.q, start_q))
+                return run(kind, lambda: mp.plan_path_to_joints(q_cmd[0], start_q))
 
             # --- scan: start -> above each object -> start
             mp.set_target(None)
             for i, box in enumerate(mp.boxes):
                 T_f = camera_above_flange_pose(box.center, n_up, perceived.T_world_camera, flange_T_cam)
-                if not run("scan_probe", lambda T_f=T_f: mp.plan_path_to_pose(world.q, T_f, "flange")):
+                if not run("scan_probe", lambda T_f=T_f: mp.plan_path_to_pose(q_cmd[0], T_f, "flange")):
                     break
             back_to_start("scan_return")
 
             # --- grasp motions for every perceived object
             for i, box in enumerate(perceived.object_boxes):
-                if np.max(np.abs(world.q - start_q)) > cfg.settle_position_tol_rad * 10:
+                if np.max(np.abs(q_cmd[0] - start_q)) > cfg.settle_position_tol_rad * 10:
                     if not back_to_start("recover"):
                         break
                 mp.set_target(i)
                 nearest = min(truths, key=lambda t: np.linalg.norm(t.position_m[:2] - box.center[:2]))
                 allowed = (object_body_name(nearest.name),)
-                axis = int(np.argmin(box.extents[:2]))
-                T_grasp = top_down_grasp_tcp(box, n_up, mp.ik.fk_tcp(start_q), closing_axis=axis)
-                T_pre = offset_along(T_grasp, n_up, cfg.pregrasp_offset_m)
+                # closing axis: the narrower footprint axis first, the other if it fits too
+                axes = [int(a) for a in np.argsort(box.extents[:2])
+                        if box.extents[int(a)] <= rm.GRIPPER_MAX_WIDTH_M - GRIPPER_CLEARANCE_M]
+                planned = None
+                first_error = None
+                t_try = time.perf_counter()
+                for axis in axes or [int(np.argmin(box.extents[:2]))]:
+                    T_grasp = top_down_grasp_tcp(box, n_up, mp.ik.fk_tcp(start_q), closing_axis=axis)
+                    T_pre = offset_along(T_grasp, n_up, cfg.pregrasp_offset_m)
+                    try:
+                        p_pre = mp.plan_path_to_pose(q_cmd[0], T_pre, "tcp")
+                        p_app = mp.plan_path_cartesian(p_pre.goal, T_grasp, "tcp", True)
+                        planned = (T_grasp, p_pre, p_app)
+                        break
+                    except MotionError as exc:
+                        first_error = first_error or exc
+                if planned is None:
+                    records.append({"scene": scene.name, "kind": "pregrasp+approach", "ok": False,
+                                    "planning_ms": (time.perf_counter() - t_try) * 1e3,
+                                    "method": "none", "attempts": 0,
+                                    "error": f"{type(first_error).__name__}: {first_error}"})
+                    log.warning("%s grasp %d: %s", scene.name, i, records[-1]["error"])
+                    mp.set_target(None)
+                    continue
+                T_grasp, p_pre, p_app = planned
                 T_lift = offset_along(T_grasp, n_up, cfg.lift_height_m)
-                ok = run("pregrasp", lambda: mp.plan_path_to_pose(world.q, T_pre, "tcp"))
-                ok = ok and run("approach", lambda: mp.plan_path_cartesian(world.q, T_grasp, "tcp", True),
+                ok = run("pregrasp", lambda: p_pre)
+                ok = ok and run("approach", lambda: p_app, allowed, True)
+                ok = ok and run("lift", lambda: mp.plan_path_cartesian(q_cmd[0], T_lift, "tcp", True),
                                 allowed, True)
-                ok = ok and run("lift", lambda: mp.plan_path_cartesian(world.q, T_lift, "tcp", True),
-                                allowed, True)
-                mp.set_target(None if not ok else i)
+                if ok:
+                    mp.set_target(None)  # 10 cm above it now: the target is an obstacle again
+                else:
+                    T_pre = offset_along(T_grasp, n_up, cfg.pregrasp_offset_m)
+                    run("retreat", lambda: mp.plan_path_cartesian(q_cmd[0], T_pre, "tcp", True),
+                        allowed, True)
                 back_to_start("grasp_return")
             mp.set_target(None)
         log.info("scene %d/%d (%s): %d objects perceived, env map %s in %.0f ms", k + 1, scenes,
@@ -184,6 +218,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--log-level", default="WARNING")
     args = ap.parse_args(argv)
     logging.basicConfig(level=getattr(logging, args.log_level))
+    logging.getLogger("toppra").setLevel(logging.WARNING)
     res = run_planning_benchmark(args.scenes, args.seed, args.json)
     summary = {k: v for k, v in res.items() if k not in ("failures", "contact_examples")}
     print(json.dumps(summary, indent=2, sort_keys=True))

@@ -65,18 +65,24 @@ class CartesianPlanner:
                 T = np.eye(4)
                 T[:3, :3] = Rs[k]
                 T[:3, 3] = Ps[k]
-                q_next = self._step_ik(T, path[-1], k, n, dist)
-                if not v.check_segment(path[-1], q_next, cfg.final_check_step_rad):
-                    bad = v.segment_states(path[-1], q_next, cfg.final_check_step_rad)
-                    ok = v.check_batch(bad)
-                    first = bad[int(np.argmin(ok))]
-                    raise CartesianPathError(
-                        f"Cartesian line blocked at {100.0 * s[k]:.0f} % of {dist * 1e3:.0f} mm: "
-                        f"{v.explain(first)}")
-                path.append(q_next)
+                path.append(self._step_ik(T, path[-1], k, n, dist))
+            path = np.asarray(path)
+            # all segments densely (≤ final_check_step_rad per joint) in one batch
+            dense, seg = [], []
+            for k in range(n):
+                st = v.segment_states(path[k], path[k + 1], cfg.final_check_step_rad)
+                dense.append(st)
+                seg.append(np.full(len(st), k))
+            dense, seg = np.vstack(dense), np.concatenate(seg)
+            ok = v.check_batch(dense)
+            if not np.all(ok):
+                first = int(np.argmin(ok))
+                raise CartesianPathError(
+                    f"Cartesian line blocked at {100.0 * s[seg[first]]:.0f} % of {dist * 1e3:.0f} mm: "
+                    f"{v.explain(dense[first])}")
         finally:
             v.allow_target_contact = prev_flag
-        return JointPath(np.asarray(path), (time.perf_counter() - t0) * 1e3, "cartesian", 0,
+        return JointPath(path, (time.perf_counter() - t0) * 1e3, "cartesian", 0,
                          v.checked_states - n0)
 
     def _step_ik(self, T: np.ndarray, q_prev: np.ndarray, k: int, n: int, dist: float) -> np.ndarray:

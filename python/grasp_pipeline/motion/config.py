@@ -45,7 +45,7 @@ class MotionConfig:
     max_environment_points: int = 20_000_000
     max_grid_voxels: int = 12_000_000
     self_filter_padding_m: float = 0.02
-    target_ignore_padding_m: float = 0.03
+    target_ignore_padding_m: float = 0.05
     floor_z_m: float = 0.0
     default_finger_opening_m: float = 0.08
     # --- Cartesian segments --------------------------------------------------------------

@@ -7,8 +7,8 @@ two are not inverses of each other). For ``ik_q7_samples`` values of q7 across i
 plus the current q7, ``ik_full`` gives up to four solutions each. Every candidate is then
 
 1. kept only if within our joint limits (``PANDA_Q_MIN/MAX``),
-2. refined by Gauss-Newton on *our* model's forward kinematics (the MJCF's kinematic tree,
-   vectorised in :class:`ChainKinematics`), so a difference between frankik's DH figures and
+2. refined by Gauss-Newton on *our* model's forward kinematics (``mj_kinematics`` and
+   ``mj_jacBody`` on the robot-only MJCF), so a difference between frankik's DH figures and
    our model cannot leak into the result,
 3. verified with ``mujoco.mj_kinematics`` on the robot model: accepted only if the flange
    reaches the target within ``ik_accept_position_m`` / ``ik_accept_orientation_rad``.
@@ -43,6 +43,7 @@ _DLS_MAX_STEP_M = 0.05
 _DLS_MAX_STEP_RAD = 0.2
 _DLS_ITERATIONS = 200
 _LIMIT_EPS_RAD = 1e-9
+_MJ_JACOBIAN_MAX_BATCH = 8
 
 
 @dataclass(frozen=True)
@@ -65,16 +66,17 @@ class PandaIK:
         self.model = model if model is not None else rm.load_robot_model()
         self.data = mujoco.MjData(self.model)
         self.arm_idx = rm.arm_qpos_indices(self.model)
-        self.kin = ChainKinematics(self.model, self.arm_idx)
         self.flange_id = self.model.body(rm.FLANGE_BODY).id
         self.q_min = np.asarray(rm.PANDA_Q_MIN, dtype=float)
         self.q_max = np.asarray(rm.PANDA_Q_MAX, dtype=float)
+        self.arm_dof = rm.arm_dof_indices(self.model)
+        self.kin = ChainKinematics(self.model, self.arm_idx)
+        jid = [self.model.joint(n).id for n in rm.PANDA_JOINT_NAMES]
+        self._arm_bodies = [int(self.model.jnt_bodyid[j]) for j in jid]
+        self._arm_axes = [np.array(self.model.jnt_axis[j]) for j in jid]
+        self._arm_anchor = [np.array(self.model.jnt_pos[j]) for j in jid]
         self.flange_T_tcp = rm.flange_T_tcp(self.model)
         self.tcp_T_flange = pose_inverse(self.flange_T_tcp)
-        # joint axes / anchors of the arm joints, for the analytic Jacobian
-        self._arm_bodies = [int(self.model.jnt_bodyid[self.model.joint(n).id]) for n in rm.PANDA_JOINT_NAMES]
-        self._arm_axes = [np.array(self.model.jnt_axis[self.model.joint(n).id]) for n in rm.PANDA_JOINT_NAMES]
-        self._arm_anchor = [np.array(self.model.jnt_pos[self.model.joint(n).id]) for n in rm.PANDA_JOINT_NAMES]
 
     # ------------------------------------------------------------------ forward kinematics
     def fk_flange(self, q: np.ndarray) -> np.ndarray:
@@ -144,6 +146,33 @@ class PandaIK:
         return np.clip(c[inside], self.q_min, self.q_max)
 
     def _flange_and_jacobian(self, Q: np.ndarray):
+        """Flange rotations (N, 3, 3), positions (N, 3) and 6x7 Jacobians (N, 6, 7) of our
+        model: ``mj_kinematics`` + ``mj_comPos`` + ``mj_jacBody`` per state."""
+        Q = np.atleast_2d(Q)
+        n = len(Q)
+        if n > _MJ_JACOBIAN_MAX_BATCH:
+            return self._flange_and_jacobian_batch(Q)
+        m, d = self.model, self.data
+        Rf = np.empty((n, 3, 3))
+        pf = np.empty((n, 3))
+        J = np.empty((n, 6, 7))
+        jacp = np.empty((3, m.nv))
+        jacr = np.empty((3, m.nv))
+        d.qpos[:] = m.qpos0
+        for k in range(n):
+            d.qpos[self.arm_idx] = Q[k]
+            mujoco.mj_kinematics(m, d)
+            mujoco.mj_comPos(m, d)
+            mujoco.mj_jacBody(m, d, jacp, jacr, self.flange_id)
+            Rf[k] = d.xmat[self.flange_id].reshape(3, 3)
+            pf[k] = d.xpos[self.flange_id]
+            J[k, :3] = jacp[:, self.arm_dof]
+            J[k, 3:] = jacr[:, self.arm_dof]
+        return Rf, pf, J
+
+    def _flange_and_jacobian_batch(self, Q: np.ndarray):
+        """Same as :meth:`_flange_and_jacobian`, vectorised with :class:`ChainKinematics`
+        (faster for many candidates; identical to MuJoCo's FK to ~1e-15)."""
         R, p = self.kin.body_poses(Q, bodies_needed=self.flange_id + 1)
         Rf, pf = R[:, self.flange_id], p[:, self.flange_id]
         J = np.empty((len(Q), 6, 7))
@@ -184,9 +213,10 @@ class PandaIK:
                 keep.append(q)
         if not keep:
             return np.zeros((0, 7))
-        uniq: list[np.ndarray] = []
-        for q in keep:
-            if all(np.max(np.abs(q - u)) > cfg.ik_duplicate_tol_rad for u in uniq):
+        keep = np.asarray(keep)
+        uniq = [keep[0]]
+        for q in keep[1:]:
+            if np.min(np.max(np.abs(np.asarray(uniq) - q), axis=1)) > cfg.ik_duplicate_tol_rad:
                 uniq.append(q)
         return np.asarray(uniq)
 

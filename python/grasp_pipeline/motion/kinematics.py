@@ -1,11 +1,12 @@
 """Vectorised forward kinematics of the robot model (our MJCF), for many states at once.
 
-The collision checker needs the pose of every link for hundreds of joint states per
-query; calling ``mujoco.mj_kinematics`` once per state costs a Python round trip each.
+The IK refines up to a few hundred analytic candidates at once; a Python loop of
+``mujoco.mj_kinematics`` + ``mj_jacBody`` per candidate is slower than one vectorised pass.
 This class reads the kinematic tree from the ``MjModel`` (body offsets, joint axes,
 anchors, ``qpos0``) and replays MuJoCo's own recursion with numpy over a batch of states.
-It is checked against ``mj_kinematics`` to ~1e-12 in the tests, and the IK reports its
-final residual with ``mj_kinematics`` itself.
+It is checked against ``mj_kinematics`` to ~1e-12 in the tests, and every IK solution is
+finally verified with ``mj_kinematics`` itself. (The collision spheres are posed with
+``mj_kinematics`` directly: for one state at a time that is faster.)
 
 Only hinge and slide joints are supported (the Panda has nothing else). Joints that are
 not arm joints (the fingers) take fixed values given at call time.

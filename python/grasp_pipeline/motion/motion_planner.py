@@ -37,6 +37,9 @@ from .validity import StateValidator
 
 log = logging.getLogger(__name__)
 
+#: Knot densification factor of the second timing attempt.
+_DENSER_KNOTS = 5.0
+
 
 class MotionPlanner:
     """IK + collision model + OMPL + Cartesian lines + TOPP-RA for one robot."""
@@ -168,10 +171,30 @@ class MotionPlanner:
         return self.time_path(path, allow_target_contact)
 
     def time_path(self, path: JointPath, allow_target_contact: bool = False) -> JointTrajectory:
-        """TOPP-RA timing + collision re-check of the timed samples."""
-        traj = self.timer.time_path(path)
-        self.check_trajectory(traj, allow_target_contact)
-        return traj
+        """TOPP-RA timing + collision re-check of the timed samples.
+
+        The smooth spline through the (densified) waypoints may cut a corner of the checked
+        polyline. If a timed sample is invalid, the path is re-timed with 5x denser knots, and
+        if that still fails, segment by segment (rest at each waypoint: exactly the polyline).
+        """
+        t0 = time.perf_counter()
+        attempts = (lambda: self.timer.time_path(path),
+                    lambda: self.timer.time_path(path, self.config.timing_waypoint_step_rad / _DENSER_KNOTS),
+                    lambda: self.timer.time_path_stop_at_waypoints(path))
+        for k, make in enumerate(attempts):
+            traj = make()
+            try:
+                self.check_trajectory(traj, allow_target_contact)
+            except PlanningFailedError:
+                if k == len(attempts) - 1:
+                    raise
+                log.debug("timed trajectory leaves the checked path (attempt %d); re-timing", k + 1)
+                continue
+            if k:
+                traj = JointTrajectory(traj.t_s, traj.q, traj.qd, traj.qdd,
+                                       timing_ms=(time.perf_counter() - t0) * 1e3, path=traj.path)
+            return traj
+        raise AssertionError("unreachable")
 
     def check_trajectory(self, traj: JointTrajectory, allow_target_contact: bool = False) -> None:
         """Raise PlanningFailedError if a timed sample is invalid (checked at ≤ the dense step)."""

@@ -24,10 +24,15 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy import ndimage
+from scipy.spatial import cKDTree
 
 from .exceptions import EnvironmentCloudError
 
 log = logging.getLogger(__name__)
+
+#: Near a cleared target region, environment points are kept on a grid this fraction of the
+#: voxel size (e.g. 5 mm for 1 cm voxels) instead of the voxel grid.
+_CLEARED_FINE_FRACTION = 0.5
 
 
 @dataclass(frozen=True)
@@ -83,11 +88,12 @@ class OccupancyMap:
     """
 
     def __init__(self, origin_m: np.ndarray, voxel_size_m: float, occupied: np.ndarray,
-                 pad_m: float) -> None:
+                 pad_m: float, points: np.ndarray | None = None) -> None:
         self.origin_m = np.asarray(origin_m, dtype=float)
         self.voxel_size_m = float(voxel_size_m)
         self.occupied = occupied
         self.pad_m = float(pad_m)
+        self._points = np.zeros((0, 3)) if points is None else points
         self.inflation_m = math.sqrt(3.0) * self.voxel_size_m
         self.shape = np.array(occupied.shape, dtype=np.int64)
         self.num_occupied = int(np.count_nonzero(occupied))
@@ -123,7 +129,7 @@ class OccupancyMap:
         v = float(voxel_size_m)
         pad_vox = int(math.ceil(pad_m / v)) + 1
         if len(pts) == 0:
-            return cls(lo_ws, v, np.zeros((1, 1, 1), dtype=bool), pad_m)
+            return cls(lo_ws, v, np.zeros((1, 1, 1), dtype=bool), pad_m, pts)
         idx = np.floor((pts - lo_ws) / v).astype(np.int64)
         imin = idx.min(axis=0) - pad_vox
         imax = idx.max(axis=0) + pad_vox
@@ -138,7 +144,7 @@ class OccupancyMap:
         rel = idx - imin
         occ[rel[:, 0], rel[:, 1], rel[:, 2]] = True
         origin = lo_ws + imin * v
-        return cls(origin, v, occ, pad_m)
+        return cls(origin, v, occ, pad_m, pts)
 
     # ------------------------------------------------------------------ queries
     def _lookup(self, field: np.ndarray | None, origin: np.ndarray, shape: np.ndarray,
@@ -167,32 +173,39 @@ class OccupancyMap:
                 if tree is None:
                     d[near] = np.inf
                 else:
-                    centres = self.origin_m + (np.floor(
-                        (points[near] - self.origin_m) / self.voxel_size_m) + 0.5) * self.voxel_size_m
-                    dd, _ = tree.query(centres, distance_upper_bound=2.0 * self.pad_m)
-                    d[near] = dd
+                    dd, _ = tree.query(points[near], distance_upper_bound=self.pad_m)
+                    # point distances (minus the fine-grid rounding); + inflation keeps
+                    # "distance_m - inflation_m" a lower bound
+                    fine = 0.5 * math.sqrt(3.0) * self.voxel_size_m * _CLEARED_FINE_FRACTION
+                    d[near] = dd - fine + self.inflation_m
         return d
 
     def with_cleared_region(self, box: OrientedBox) -> "OccupancyMap":
         """A view of this map whose ``distance_m(..., cleared=True)`` treats the voxels
         inside ``box`` as free (the grasp target's region). The original is unchanged.
 
-        Near the box (within ``pad_m``) distances come from a k-d tree over the occupied
-        voxel centres outside the box (same voxel-centre semantics as the field).
+        Near the box (within ``pad_m``) distances come from a k-d tree over the environment
+        points outside the box, kept on a fine grid (half a voxel): nearly exact distances
+        (fine rounding subtracted, ``inflation_m`` added so subtracting it stays correct), so
+        the hand may come as close to the table beside the target as the margin allows.
         """
-        from scipy.spatial import cKDTree
 
         view = copy.copy(self)
-        if self._field is None:
-            view._cleared = (box, None)
-            return view
-        v = self.voxel_size_m
-        occ_idx = np.argwhere(self.occupied)
-        centres = self.origin_m + (occ_idx + 0.5) * v
-        keep = ~box.contains(centres)
-        near = box.distance_m(centres) <= 3.0 * self.pad_m
-        sel = centres[keep & near]
-        view._cleared = (box, cKDTree(sel) if len(sel) else None)
+        pts = self._points
+        half = 0.5 * np.abs(box.R) @ box.extents + 2.0 * self.pad_m
+        pts = pts[np.all(np.abs(pts - box.center) <= half, axis=1)]
+        pts = pts[~box.contains(pts)]
+        # de-duplicate on a fine grid (its rounding is subtracted from the distances)
+        f = self.voxel_size_m * _CLEARED_FINE_FRACTION
+        if len(pts):
+            ii = np.floor((pts - box.center) / f).astype(np.int64)
+            lo = ii.min(axis=0)
+            ii -= lo
+            dims = ii.max(axis=0) + 1
+            key = np.unique((ii[:, 0] * dims[1] + ii[:, 1]) * dims[2] + ii[:, 2])
+            ii = np.stack([key // (dims[1] * dims[2]), (key // dims[2]) % dims[1], key % dims[2]], axis=1)
+            pts = box.center + (ii + lo + 0.5) * f
+        view._cleared = (box, cKDTree(pts) if len(pts) else None)
         return view
 
     def __repr__(self) -> str:

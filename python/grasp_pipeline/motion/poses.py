@@ -56,8 +56,11 @@ def rotation_log(R: np.ndarray) -> np.ndarray:
 
 
 def rotation_angle(R: np.ndarray) -> float:
-    """Angle of a rotation matrix [rad], accurate for small angles."""
-    return float(np.linalg.norm(rotation_log(R)))
+    """Angle of a rotation matrix [rad]: atan2(|vee(R - Rᵀ)|/2, (tr R - 1)/2), accurate for
+    small angles (unlike arccos of the trace) and up to π."""
+    s = 0.5 * np.sqrt((R[2, 1] - R[1, 2]) ** 2 + (R[0, 2] - R[2, 0]) ** 2 + (R[1, 0] - R[0, 1]) ** 2)
+    c = 0.5 * (R[0, 0] + R[1, 1] + R[2, 2] - 1.0)
+    return float(np.arctan2(s, c))
 
 
 def pose_error(T_target: np.ndarray, T: np.ndarray) -> tuple[float, float]:

@@ -53,8 +53,30 @@ class TrajectoryTimer:
         self.qdd_limit = np.asarray(qdd_max, dtype=float) * config.acceleration_scale
         self.dt_s = 1.0 / config.control_rate_hz
 
-    def time_path(self, path: JointPath | np.ndarray) -> JointTrajectory:
-        """Time a path (JointPath or (M, 7) waypoints); raise TimeParameterizationError on failure."""
+    def time_path_stop_at_waypoints(self, path: JointPath | np.ndarray) -> JointTrajectory:
+        """Time every segment separately (rest at each waypoint): the joints follow the
+        polyline exactly. Slower to execute; the fallback when a smooth spline would leave
+        the collision-checked polyline by too much near an obstacle."""
+        jp = path if isinstance(path, JointPath) else None
+        wp = np.asarray(path.waypoints if jp is not None else path, dtype=float)
+        parts = [self.time_path(wp[k:k + 2]) for k in range(len(wp) - 1)] or [self.time_path(wp[:1])]
+        t, q, qd, qdd, ms = [parts[0].t_s], [parts[0].q], [parts[0].qd], [parts[0].qdd], parts[0].timing_ms
+        for p in parts[1:]:
+            if p.num_samples < 2:
+                continue
+            t.append(t[-1][-1] + p.t_s[1:])
+            q.append(p.q[1:])
+            qd.append(p.qd[1:])
+            qdd.append(p.qdd[1:])
+            ms += p.timing_ms
+        return JointTrajectory(np.concatenate(t), np.vstack(q), np.vstack(qd), np.vstack(qdd),
+                               timing_ms=ms, path=jp)
+
+    def time_path(self, path: JointPath | np.ndarray, waypoint_step_rad: float | None = None) -> JointTrajectory:
+        """Time a path (JointPath or (M, 7) waypoints); raise TimeParameterizationError on failure.
+
+        ``waypoint_step_rad``: densification step before the spline fit (default from the
+        config); smaller keeps the spline closer to the polyline at corners."""
         import toppra
         import toppra.algorithm as algo
         import toppra.constraint as constraint
@@ -72,7 +94,7 @@ class TrajectoryTimer:
             tr = JointTrajectory.hold(wp[0])
             return JointTrajectory(tr.t_s, tr.q, tr.qd, tr.qdd,
                                    timing_ms=(time.perf_counter() - t0) * 1e3, path=jp)
-        dense = densify(wp, self.config.timing_waypoint_step_rad)
+        dense = densify(wp, waypoint_step_rad or self.config.timing_waypoint_step_rad)
         ss = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(dense, axis=0), axis=1))])
         if len(dense) == 2:
             # a straight line: a 3-knot spline keeps it exactly linear

@@ -77,6 +77,7 @@ class DepthCamera:
         self._x = ((np.arange(w, dtype=np.float32) - np.float32(cx)) / np.float32(fx))[None, :]
         self._y = ((np.arange(h, dtype=np.float32) - np.float32(cy)) / np.float32(fy))[:, None]
         self._ray_norm = np.sqrt(1.0 + self._x**2 + self._y**2).astype(np.float32)  # |(x, y, 1)|
+        self._ray_norm2 = self._ray_norm**2
         self._cos_grazing = np.float32(math.cos(math.radians(config.grazing_max_deg)))
         self._fx = np.float32(fx)
         self._fy = np.float32(fy)
@@ -166,26 +167,30 @@ class DepthCamera:
         return [R32[i, 0] * self._x + R32[i, 1] * self._y + R32[i, 2] for i in range(3)]
 
     def _grazing_mask(self, z: np.ndarray) -> np.ndarray:
-        """True where the surface is seen at more than ``grazing_max_deg`` from its normal."""
-        def slope(axis: int) -> np.ndarray:
-            d = np.diff(z, axis=axis)
-            pad = [(0, 0), (0, 0)]
-            pad[axis] = (1, 0)
-            back = np.pad(d, pad, constant_values=np.nan)
-            pad[axis] = (0, 1)
-            fwd = np.pad(d, pad, constant_values=np.nan)
-            ab, af = np.abs(back), np.abs(fwd)
-            ab[np.isnan(ab)] = np.inf
-            af[np.isnan(af)] = np.inf
-            return np.where(af <= ab, fwd, back)
+        """True where the surface is seen at more than ``grazing_max_deg`` from its normal.
 
+        Interior pixels only (the 1-pixel image border is never marked); a pixel next to a
+        NaN takes the NaN-free side or, with NaN on both sides, is kept.
+        """
+        gu = np.zeros_like(z)
+        gv = np.zeros_like(z)
         with np.errstate(invalid="ignore", over="ignore"):
-            gu = slope(1) * self._fx
-            gv = slope(0) * self._fy
-            nz = gu * self._x + gv * self._y + z
-            n_norm = np.sqrt(gu * gu + gv * gv + nz * nz)
-            cos = z / (n_norm * self._ray_norm)
-            return cos < self._cos_grazing  # NaN (isolated pixel) compares False: kept
+            d = np.diff(z, axis=1)
+            back, fwd = d[:, :-1], d[:, 1:]
+            gu[:, 1:-1] = np.where(np.abs(fwd) <= np.abs(back), fwd, back)
+            d = np.diff(z, axis=0)
+            back, fwd = d[:-1], d[1:]
+            gv[1:-1] = np.where(np.abs(fwd) <= np.abs(back), fwd, back)
+            gu *= self._fx
+            gv *= self._fy
+            nz = gu * self._x
+            nz += gv * self._y
+            nz += z
+            n2 = gu * gu
+            n2 += gv * gv
+            n2 += nz * nz
+            # cos = z / (|n| |r|) < cos_max  <=>  z^2 < cos_max^2 |n|^2 |r|^2  (z > 0)
+            return z * z < (self._cos_grazing**2) * n2 * self._ray_norm2
 
     # ------------------------------------------------------------------ capture
     def capture(self) -> Frame:

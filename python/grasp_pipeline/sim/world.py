@@ -103,18 +103,32 @@ def build_scene_model(scene: SceneSpec, config: SimConfig) -> mujoco.MjModel:
 
 
 class _Trajectory:
-    """A joint reference ``q(t)``, ``qd(t)`` on absolute simulated time."""
+    """A joint reference ``q(t)``, ``qd(t)`` on absolute simulated time.
+
+    Per segment a cubic in the normalised time ``s`` (Hermite from the sample velocities, or
+    linear without them); coefficients are precomputed and the segment index is cached, since
+    the reference is sampled at every physics step.
+    """
 
     def __init__(self, t_abs: np.ndarray, q: np.ndarray, qd: np.ndarray | None):
         self.t = t_abs
         self.q = q
-        self.hermite = qd is not None
-        if qd is None:
-            dt = np.diff(t_abs)[:, None]
-            slope = np.diff(q, axis=0) / dt
-            self.qd = np.vstack([slope, np.zeros((1, q.shape[1]))]) if len(t_abs) > 1 else np.zeros_like(q)
+        n_seg = max(len(t_abs) - 1, 0)
+        self.h = np.diff(t_abs)
+        if n_seg == 0:
+            self.coef = np.zeros((0, 4, q.shape[1]))
+        elif qd is None:
+            dq = np.diff(q, axis=0)
+            zero = np.zeros_like(dq)
+            self.coef = np.stack([q[:-1], dq, zero, zero], axis=1)
         else:
-            self.qd = qd
+            m0 = qd[:-1] * self.h[:, None]
+            m1 = qd[1:] * self.h[:, None]
+            q0, q1 = q[:-1], q[1:]
+            self.coef = np.stack([q0, m0, 3 * (q1 - q0) - 2 * m0 - m1,
+                                  2 * (q0 - q1) + m0 + m1], axis=1)
+        self._seg = 0
+        self._zero = np.zeros(q.shape[1])
 
     @property
     def end_time_s(self) -> float:
@@ -122,23 +136,20 @@ class _Trajectory:
 
     def sample(self, t: float) -> tuple[np.ndarray, np.ndarray]:
         tt = self.t
-        if t <= tt[0]:
-            return self.q[0], (self.qd[0] * 0.0 if t < tt[0] else self.qd[0])
+        if t < tt[0] or len(tt) == 1:
+            return self.q[0], self._zero
         if t >= tt[-1]:
-            return self.q[-1], np.zeros_like(self.q[-1])
-        i = int(np.searchsorted(tt, t, side="right")) - 1
-        h = tt[i + 1] - tt[i]
+            return self.q[-1], self._zero
+        i = self._seg
+        if not tt[i] <= t < tt[i + 1]:
+            i = int(np.searchsorted(tt, t, side="right")) - 1
+            self._seg = i
+        h = self.h[i]
         s = (t - tt[i]) / h
-        q0, q1 = self.q[i], self.q[i + 1]
-        if not self.hermite:
-            return q0 + s * (q1 - q0), self.qd[i]
-        m0, m1 = self.qd[i] * h, self.qd[i + 1] * h
-        s2, s3 = s * s, s * s * s
-        q = ((2 * s3 - 3 * s2 + 1) * q0 + (s3 - 2 * s2 + s) * m0
-             + (-2 * s3 + 3 * s2) * q1 + (s3 - s2) * m1)
-        dq = ((6 * s2 - 6 * s) * q0 + (3 * s2 - 4 * s + 1) * m0
-              + (-6 * s2 + 6 * s) * q1 + (3 * s2 - 2 * s) * m1) / h
-        return q, dq
+        a, b, c, d = self.coef[i]
+        q = ((d * s + c) * s + b) * s + a
+        qd = ((3.0 * d * s + 2.0 * c) * s + b) / h
+        return q, qd
 
 
 class SimWorld:

@@ -157,3 +157,25 @@ def test_grazing_and_out_of_range_pixels_are_nan(make_world):
 def test_bad_camera_config_is_refused(bad):
     with pytest.raises(ConfigError):
         load_camera_config(overrides=bad)
+
+
+def test_without_gl_frames_are_ray_cast_and_logged():
+    """A process where GL is unavailable (MUJOCO_GL=disable) still gets frames, ray-cast."""
+    import os
+    import subprocess
+    import sys
+
+    code = (
+        "import logging, sys\n"
+        "logging.basicConfig(level=logging.INFO, stream=sys.stdout)\n"
+        "from grasp_pipeline.sim.world import SimWorld\n"
+        "from grasp_pipeline.sim.config import load_camera_config\n"
+        "w = SimWorld(camera_config=load_camera_config(overrides={'width_px': 64, 'height_px': 48}))\n"
+        "f = w.capture()\n"
+        "print('FRAME', f.backend, f.points_world.shape, f.points_world.dtype)\n"
+    )
+    env = dict(os.environ, MUJOCO_GL="disable")
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
+                         timeout=120, check=True).stdout
+    assert "depth camera backend: raycast" in out
+    assert "FRAME raycast (3072, 3) float32" in out

@@ -1,0 +1,1054 @@
+# Type stubs of the compiled extension grasp_pipeline._core: drafted with pybind11-stubgen,
+# then tidied by hand (numpy types, aliases below). tests/python/core/test_core_stubs.py
+# fails when the module gains a public name the stubs do not declare.
+"""
+grasp_pipeline perception core (C++17, Eigen, PCL): scene filter, object estimates, grasp pose math, tracker, and the per-frame Perception entry point
+"""
+from __future__ import annotations
+from collections.abc import Sequence
+import numpy
+import numpy.typing
+import typing
+
+# Type aliases (stub-only). Eigen vectors/matrices come back as float64 numpy arrays of
+# shape (3,), (3, 3) or (4, 4); arguments accept anything numpy can convert.
+Vec3: typing.TypeAlias = numpy.typing.NDArray[numpy.float64]
+Mat3: typing.TypeAlias = numpy.typing.NDArray[numpy.float64]
+Mat4: typing.TypeAlias = numpy.typing.NDArray[numpy.float64]
+Vec3Like: typing.TypeAlias = numpy.typing.ArrayLike
+Mat3Like: typing.TypeAlias = numpy.typing.ArrayLike
+#: An (N, 3) float32 or float64 array of points in `world` (rows may be NaN/Inf where noted).
+Points: typing.TypeAlias = numpy.typing.NDArray[numpy.float32] | numpy.typing.NDArray[numpy.float64]
+class ViewQuality:
+    """
+    View quality of an observation (NADIR > OBLIQUE)
+    
+    Members:
+    
+      OBLIQUE
+    
+      NADIR
+    """
+    NADIR: typing.ClassVar[ViewQuality]
+    OBLIQUE: typing.ClassVar[ViewQuality]
+    __members__: typing.ClassVar[dict[str, ViewQuality]]
+    @typing.overload
+    def __eq__(self, other: ViewQuality) -> bool:
+        ...
+    @typing.overload
+    def __eq__(self, other: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> int:
+        ...
+    def __hash__(self) -> int:
+        ...
+    def __index__(self) -> int:
+        ...
+    def __init__(self, value: int) -> None:
+        ...
+    def __int__(self) -> int:
+        ...
+    @typing.overload
+    def __ne__(self, other: ViewQuality) -> bool:
+        ...
+    @typing.overload
+    def __ne__(self, other: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, state: int) -> None:
+        ...
+    def __str__(self) -> str:
+        ...
+    @property
+    def name(self) -> str:
+        ...
+    @property
+    def value(self) -> int:
+        ...
+class Plane:
+    """
+    A plane n.p + c = 0 with |n| = 1 and n_z > 0 (world frame)
+    """
+    def __init__(self, n: Vec3Like, c: float) -> None:
+        """
+        Normalises n and orients it so n_z > 0 (c scaled and flipped accordingly).
+        """
+    def __repr__(self) -> str:
+        ...
+    def foot(self) -> Vec3:
+        """
+        -c n: foot of the origin on the plane
+        """
+    def rotation(self) -> Mat3:
+        """
+        rotation taking +z to n (det +1)
+        """
+    def signed_distance(self, p: Vec3Like) -> float:
+        """
+        n.p + c (positive above) [m]
+        """
+    def tilt_deg(self) -> float:
+        """
+        angle between n and +z [deg]
+        """
+    @property
+    def c(self) -> float:
+        ...
+    @property
+    def height_m(self) -> float:
+        """
+        -c / n_z: where it meets the z axis [m]
+        """
+    @property
+    def n(self) -> Vec3:
+        ...
+class Pose:
+    """
+    A rigid pose: x_world = R x_local + t
+    """
+    @staticmethod
+    def from_matrix(T: numpy.typing.ArrayLike) -> Pose:
+        ...
+    def __init__(self, R: Mat3Like, t: Vec3Like) -> None:
+        ...
+    def matrix(self) -> Mat4:
+        """
+        4x4 homogeneous matrix
+        """
+    @property
+    def R(self) -> Mat3:
+        ...
+    @property
+    def t(self) -> Vec3:
+        ...
+class SceneFilterParams:
+    """
+    SPEC 1.6 scene filter parameters
+    """
+    plane_lock: bool
+    def __init__(self) -> None:
+        ...
+    def validate(self) -> None:
+        """
+        Raise ValueError naming the first invalid parameter.
+        """
+    @property
+    def band(self) -> float:
+        ...
+    @band.setter
+    def band(self, arg0: float) -> None:
+        ...
+    @property
+    def cluster_eps(self) -> float:
+        ...
+    @cluster_eps.setter
+    def cluster_eps(self, arg0: float) -> None:
+        ...
+    @property
+    def cluster_max_extent(self) -> float:
+        ...
+    @cluster_max_extent.setter
+    def cluster_max_extent(self, arg0: float) -> None:
+        ...
+    @property
+    def cluster_min_extent(self) -> float:
+        ...
+    @cluster_min_extent.setter
+    def cluster_min_extent(self, arg0: float) -> None:
+        ...
+    @property
+    def cluster_min_points(self) -> int:
+        ...
+    @cluster_min_points.setter
+    def cluster_min_points(self, arg0: int) -> None:
+        ...
+    @property
+    def cluster_voxel_m(self) -> float:
+        ...
+    @cluster_voxel_m.setter
+    def cluster_voxel_m(self, arg0: float) -> None:
+        ...
+    @property
+    def plane_dist_thresh(self) -> float:
+        ...
+    @plane_dist_thresh.setter
+    def plane_dist_thresh(self, arg0: float) -> None:
+        ...
+    @property
+    def plane_dominance(self) -> float:
+        ...
+    @plane_dominance.setter
+    def plane_dominance(self, arg0: float) -> None:
+        ...
+    @property
+    def plane_fit_max_points(self) -> int:
+        ...
+    @plane_fit_max_points.setter
+    def plane_fit_max_points(self, arg0: int) -> None:
+        ...
+    @property
+    def plane_init_frames(self) -> int:
+        ...
+    @plane_init_frames.setter
+    def plane_init_frames(self, arg0: int) -> None:
+        ...
+    @property
+    def plane_lock_after(self) -> int:
+        ...
+    @plane_lock_after.setter
+    def plane_lock_after(self, arg0: int) -> None:
+        ...
+    @property
+    def plane_max_count(self) -> int:
+        ...
+    @plane_max_count.setter
+    def plane_max_count(self, arg0: int) -> None:
+        ...
+    @property
+    def plane_max_tilt_deg(self) -> float:
+        ...
+    @plane_max_tilt_deg.setter
+    def plane_max_tilt_deg(self, arg0: float) -> None:
+        ...
+    @property
+    def plane_min_inlier_ratio(self) -> float:
+        ...
+    @plane_min_inlier_ratio.setter
+    def plane_min_inlier_ratio(self, arg0: float) -> None:
+        ...
+    @property
+    def plane_ransac_iters(self) -> int:
+        ...
+    @plane_ransac_iters.setter
+    def plane_ransac_iters(self, arg0: int) -> None:
+        ...
+    @property
+    def plane_update_tol_deg(self) -> float:
+        ...
+    @plane_update_tol_deg.setter
+    def plane_update_tol_deg(self, arg0: float) -> None:
+        ...
+    @property
+    def plane_update_tol_m(self) -> float:
+        ...
+    @plane_update_tol_m.setter
+    def plane_update_tol_m(self, arg0: float) -> None:
+        ...
+    @property
+    def seed(self) -> int:
+        ...
+    @seed.setter
+    def seed(self, arg0: int) -> None:
+        ...
+class ObbParams:
+    """
+    SPEC 2.7 object estimate / guard / tracker parameters
+    """
+    def __init__(self) -> None:
+        ...
+    def validate(self) -> None:
+        """
+        Raise ValueError naming the first invalid parameter.
+        """
+    @property
+    def assoc_gate_frac(self) -> float:
+        ...
+    @assoc_gate_frac.setter
+    def assoc_gate_frac(self, arg0: float) -> None:
+        ...
+    @property
+    def depth_noise_sigma(self) -> float:
+        ...
+    @depth_noise_sigma.setter
+    def depth_noise_sigma(self, arg0: float) -> None:
+        ...
+    @property
+    def gripper_open(self) -> float:
+        ...
+    @gripper_open.setter
+    def gripper_open(self, arg0: float) -> None:
+        ...
+    @property
+    def isotropy_ratio_max(self) -> float:
+        ...
+    @isotropy_ratio_max.setter
+    def isotropy_ratio_max(self, arg0: float) -> None:
+        ...
+    @property
+    def max_age_s(self) -> float:
+        ...
+    @max_age_s.setter
+    def max_age_s(self, arg0: float) -> None:
+        ...
+    @property
+    def min_graspable_width(self) -> float:
+        ...
+    @min_graspable_width.setter
+    def min_graspable_width(self, arg0: float) -> None:
+        ...
+    @property
+    def min_height(self) -> float:
+        ...
+    @min_height.setter
+    def min_height(self, arg0: float) -> None:
+        ...
+    @property
+    def n_theta(self) -> int:
+        ...
+    @n_theta.setter
+    def n_theta(self, arg0: int) -> None:
+        ...
+    @property
+    def nadir_angle_max_deg(self) -> float:
+        ...
+    @nadir_angle_max_deg.setter
+    def nadir_angle_max_deg(self, arg0: float) -> None:
+        ...
+    @property
+    def nadir_hold_s(self) -> float:
+        ...
+    @nadir_hold_s.setter
+    def nadir_hold_s(self, arg0: float) -> None:
+        ...
+    @property
+    def resting_margin(self) -> float:
+        ...
+    @resting_margin.setter
+    def resting_margin(self, arg0: float) -> None:
+        ...
+    @property
+    def side_seen_sigmas(self) -> float:
+        ...
+    @side_seen_sigmas.setter
+    def side_seen_sigmas(self, arg0: float) -> None:
+        ...
+    @property
+    def top_slice_iters(self) -> int:
+        ...
+    @top_slice_iters.setter
+    def top_slice_iters(self, arg0: int) -> None:
+        ...
+    @property
+    def top_slice_sigmas(self) -> float:
+        ...
+    @top_slice_sigmas.setter
+    def top_slice_sigmas(self, arg0: float) -> None:
+        ...
+    @property
+    def width_tol_m(self) -> float:
+        ...
+    @width_tol_m.setter
+    def width_tol_m(self, arg0: float) -> None:
+        ...
+    @property
+    def window(self) -> int:
+        ...
+    @window.setter
+    def window(self, arg0: int) -> None:
+        ...
+class PlaneFit:
+    """
+    Result of one RANSAC plane search (SPEC 1.1)
+    """
+    @property
+    def inliers(self) -> int:
+        ...
+    @property
+    def iterations(self) -> int:
+        ...
+    @property
+    def plane(self) -> Plane:
+        ...
+    @property
+    def ransac_plane(self) -> Plane:
+        ...
+    @property
+    def refined(self) -> bool:
+        ...
+class PlaneCandidate:
+    """
+    One plane of the sequential extraction
+    """
+    def __repr__(self) -> str:
+        ...
+    @property
+    def count_whole(self) -> int:
+        ...
+    @property
+    def plane(self) -> Plane:
+        ...
+    @property
+    def refined(self) -> bool:
+        ...
+    @property
+    def removed(self) -> int:
+        ...
+    @property
+    def subsample_inliers(self) -> int:
+        ...
+    @property
+    def subsample_size(self) -> int:
+        ...
+class ClusterInfo:
+    """
+    One connected component with >= min_points points
+    """
+    @property
+    def accepted(self) -> bool:
+        ...
+    @property
+    def extent_m(self) -> float:
+        ...
+    @property
+    def label(self) -> int:
+        ...
+    @property
+    def max(self) -> Vec3:
+        ...
+    @property
+    def min(self) -> Vec3:
+        ...
+    @property
+    def num_points(self) -> int:
+        ...
+class ClusterResult:
+    """
+    Euclidean clustering result
+    """
+    @property
+    def clusters(self) -> list[ClusterInfo]:
+        ...
+    @property
+    def labels(self) -> numpy.typing.NDArray[numpy.int32]:
+        ...
+    @property
+    def num_accepted(self) -> int:
+        ...
+    @property
+    def num_components(self) -> int:
+        ...
+class EventLevel:
+    """
+    Members:
+    
+      DEBUG
+    
+      INFO
+    
+      WARNING
+    
+      ERROR
+    """
+    DEBUG: typing.ClassVar[EventLevel]
+    ERROR: typing.ClassVar[EventLevel]
+    INFO: typing.ClassVar[EventLevel]
+    WARNING: typing.ClassVar[EventLevel]
+    __members__: typing.ClassVar[dict[str, EventLevel]]
+    @typing.overload
+    def __eq__(self, other: EventLevel) -> bool:
+        ...
+    @typing.overload
+    def __eq__(self, other: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> int:
+        ...
+    def __hash__(self) -> int:
+        ...
+    def __index__(self) -> int:
+        ...
+    def __init__(self, value: int) -> None:
+        ...
+    def __int__(self) -> int:
+        ...
+    @typing.overload
+    def __ne__(self, other: EventLevel) -> bool:
+        ...
+    @typing.overload
+    def __ne__(self, other: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, state: int) -> None:
+        ...
+    def __str__(self) -> str:
+        ...
+    @property
+    def name(self) -> str:
+        ...
+    @property
+    def value(self) -> int:
+        ...
+class FrameEvent:
+    """
+    A log line from the core (Python logs it)
+    """
+    def __repr__(self) -> str:
+        ...
+    @property
+    def level(self) -> EventLevel:
+        ...
+    @property
+    def message(self) -> str:
+        ...
+class PlaneDecision:
+    """
+    Members:
+    
+      NO_PLANE
+    
+      FALLBACK
+    
+      LOCKED
+    
+      FOLLOWED
+    
+      RESTARTED
+    
+      HARDENED
+    
+      REFUSED
+    
+      KEPT_NO_FIT
+    
+      UNLOCKED_FIT
+    """
+    FALLBACK: typing.ClassVar[PlaneDecision]
+    FOLLOWED: typing.ClassVar[PlaneDecision]
+    HARDENED: typing.ClassVar[PlaneDecision]
+    KEPT_NO_FIT: typing.ClassVar[PlaneDecision]
+    LOCKED: typing.ClassVar[PlaneDecision]
+    NO_PLANE: typing.ClassVar[PlaneDecision]
+    REFUSED: typing.ClassVar[PlaneDecision]
+    RESTARTED: typing.ClassVar[PlaneDecision]
+    UNLOCKED_FIT: typing.ClassVar[PlaneDecision]
+    __members__: typing.ClassVar[dict[str, PlaneDecision]]
+    @typing.overload
+    def __eq__(self, other: PlaneDecision) -> bool:
+        ...
+    @typing.overload
+    def __eq__(self, other: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> int:
+        ...
+    def __hash__(self) -> int:
+        ...
+    def __index__(self) -> int:
+        ...
+    def __init__(self, value: int) -> None:
+        ...
+    def __int__(self) -> int:
+        ...
+    @typing.overload
+    def __ne__(self, other: PlaneDecision) -> bool:
+        ...
+    @typing.overload
+    def __ne__(self, other: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, state: int) -> None:
+        ...
+    def __str__(self) -> str:
+        ...
+    @property
+    def name(self) -> str:
+        ...
+    @property
+    def value(self) -> int:
+        ...
+class PersistenceState:
+    """
+    SPEC 1.5 lock state
+    """
+    @property
+    def anchor(self) -> Plane | None:
+        ...
+    @property
+    def fallback_active(self) -> bool:
+        ...
+    @property
+    def fallback_reported(self) -> bool:
+        ...
+    @property
+    def frames_without_lock(self) -> int:
+        ...
+    @property
+    def hardened(self) -> bool:
+        ...
+    @property
+    def hits(self) -> int:
+        ...
+    @property
+    def lock(self) -> Plane | None:
+        ...
+class PersistenceUpdate:
+    """
+    Result of feeding one frame's fit to PlanePersistence.update (SPEC 1.5)
+    """
+    @property
+    def decision(self) -> PlaneDecision:
+        ...
+    @property
+    def environment_emitted(self) -> bool:
+        ...
+    @property
+    def events(self) -> list[FrameEvent]:
+        ...
+    @property
+    def fallback(self) -> bool:
+        ...
+    @property
+    def table(self) -> Plane | None:
+        ...
+class PlanePersistence:
+    """
+    SPEC 1.5 plane persistence state machine
+    """
+    def __init__(self, params: SceneFilterParams) -> None:
+        ...
+    def reset(self) -> None:
+        ...
+    def update(self, fit: Plane | None) -> PersistenceUpdate:
+        """
+        Feed this frame's fit (None: no plane this frame).
+        """
+    @property
+    def hardened(self) -> bool:
+        ...
+    @property
+    def locked(self) -> bool:
+        ...
+    @property
+    def state(self) -> PersistenceState:
+        ...
+class SceneFilterResult:
+    """
+    Everything the scene filter computed for one frame
+    """
+    @property
+    def band(self) -> float:
+        ...
+    @property
+    def cluster_ids(self) -> list[int]:
+        ...
+    @property
+    def clusters(self) -> list[ClusterInfo]:
+        ...
+    @property
+    def decision(self) -> PlaneDecision:
+        ...
+    @property
+    def environment_emitted(self) -> bool:
+        ...
+    @property
+    def events(self) -> list[FrameEvent]:
+        ...
+    @property
+    def fallback(self) -> bool:
+        ...
+    @property
+    def fit(self) -> Plane | None:
+        ...
+    @property
+    def labels(self) -> numpy.typing.NDArray[numpy.int32]:
+        """
+        one int per input row: LABEL_INVALID (-2), LABEL_ENVIRONMENT (-1) or an object id >= 0
+        """
+    @property
+    def ms_cluster(self) -> float:
+        ...
+    @property
+    def ms_plane(self) -> float:
+        ...
+    @property
+    def ms_total(self) -> float:
+        ...
+    @property
+    def num_candidates(self) -> int:
+        ...
+    @property
+    def num_invalid(self) -> int:
+        ...
+    @property
+    def num_valid(self) -> int:
+        ...
+    @property
+    def persistence(self) -> PersistenceState:
+        ...
+    @property
+    def planes(self) -> list[PlaneCandidate]:
+        ...
+    @property
+    def table(self) -> Plane | None:
+        ...
+    @property
+    def table_index(self) -> int:
+        ...
+class SceneFilter:
+    """
+    The per-frame scene filter (SPEC 1); owns the plane lock
+    """
+    def __init__(self, params: SceneFilterParams) -> None:
+        ...
+    def process(self, points: Points) -> SceneFilterResult:
+        """
+        Process one (N,3) float32/float64 frame in world coordinates.
+        """
+    def reset(self) -> None:
+        ...
+    @property
+    def frame_index(self) -> int:
+        ...
+    @property
+    def params(self) -> SceneFilterParams:
+        ...
+    @property
+    def persistence(self) -> PlanePersistence:
+        ...
+class PcaBox:
+    """
+    PCA oriented box (SPEC 2.5; diagnostic only)
+    """
+    @property
+    def R(self) -> Mat3:
+        ...
+    @property
+    def center(self) -> Vec3:
+        ...
+    @property
+    def eigenvalues(self) -> Vec3:
+        ...
+    @property
+    def extents(self) -> Vec3:
+        ...
+class ObjectEstimate:
+    """
+    Grasp-ready box of one object (SPEC 2)
+    """
+    def __repr__(self) -> str:
+        ...
+    @property
+    def R_box(self) -> Mat3:
+        ...
+    @property
+    def anisotropy(self) -> float:
+        ...
+    @property
+    def center(self) -> Vec3:
+        ...
+    @property
+    def extents(self) -> Vec3:
+        ...
+    @property
+    def grasp_ok(self) -> bool:
+        ...
+    @property
+    def height_m(self) -> float:
+        ...
+    @property
+    def height_ok(self) -> bool:
+        ...
+    @property
+    def lowest_m(self) -> float:
+        ...
+    @property
+    def notes(self) -> list[str]:
+        ...
+    @property
+    def num_points(self) -> int:
+        ...
+    @property
+    def pca(self) -> PcaBox:
+        ...
+    @property
+    def pca_tilt_deg(self) -> float:
+        ...
+    @property
+    def perp_width_m(self) -> float:
+        ...
+    @property
+    def resting(self) -> bool:
+        ...
+    @property
+    def resting_note(self) -> str:
+        ...
+    @property
+    def theta_deg(self) -> float:
+        ...
+    @property
+    def theta_rad(self) -> float:
+        ...
+    @property
+    def undetermined_notes(self) -> list[str]:
+        ...
+    @property
+    def width_m(self) -> float:
+        ...
+    @property
+    def width_ok(self) -> bool:
+        ...
+    @property
+    def yaw_defined(self) -> bool:
+        ...
+class EstimateResult:
+    """
+    An estimate, or why there is none
+    """
+    @property
+    def estimate(self) -> ObjectEstimate | None:
+        ...
+    @property
+    def failure(self) -> str:
+        ...
+class DirectionRun:
+    """
+    A run of candidate closing directions (SPEC 2.3)
+    """
+    @property
+    def first(self) -> int:
+        ...
+    @property
+    def indices(self) -> list[int]:
+        ...
+    @property
+    def last(self) -> int:
+        ...
+    @property
+    def theta_rad(self) -> float:
+        ...
+    @property
+    def width_m(self) -> float:
+        ...
+class DirectionChoice:
+    """
+    The chosen closing direction (SPEC 2.3) and every run considered; chosen indexes runs (-1 if none)
+    """
+    @property
+    def chosen(self) -> int:
+        ...
+    @property
+    def runs(self) -> list[DirectionRun]:
+        ...
+    @property
+    def theta_rad(self) -> float:
+        ...
+    @property
+    def width_m(self) -> float:
+        ...
+class BestGrasp:
+    """
+    Grasp pose: position = contact point, R[:,0] = approach into the object, R[:,2] = closing axis; width [m]; score always 0 (geometric method)
+    """
+    def __init__(self, R: Mat3Like, position: Vec3Like, width_m: float) -> None:
+        ...
+    @property
+    def R(self) -> Mat3:
+        ...
+    @property
+    def position(self) -> Vec3:
+        ...
+    @property
+    def score(self) -> float:
+        ...
+    @property
+    def width_m(self) -> float:
+        ...
+class ViewAssessment:
+    """
+    View quality of one observation (SPEC 3); angle_deg = angle(object - camera, -n), NaN when coincident
+    """
+    @property
+    def angle_deg(self) -> float:
+        ...
+    @property
+    def quality(self) -> ViewQuality:
+        ...
+class Track:
+    """
+    One tracked object (smoothed estimate, best quality seen)
+    """
+    @property
+    def last_seen_s(self) -> float:
+        ...
+    @property
+    def quality(self) -> ViewQuality:
+        ...
+    @property
+    def smoothed(self) -> ObjectEstimate:
+        ...
+    @property
+    def tid(self) -> int:
+        ...
+    @property
+    def window_size(self) -> int:
+        ...
+class Tracker:
+    """
+    SPEC 4 tracker
+    """
+    @staticmethod
+    def gate_for(centres: Sequence[Vec3Like], frac: float) -> float | None:
+        ...
+    def __init__(self, params: ObbParams) -> None:
+        ...
+    def prior_theta(self, centre: Vec3Like, gate: float | None = None) -> float | None:
+        ...
+    def reset(self) -> None:
+        ...
+    def retire(self, now_s: float) -> None:
+        ...
+    def update(self, estimates: Sequence[ObjectEstimate], qualities: Sequence[ViewQuality], now_s: float) -> list[int]:
+        ...
+    @property
+    def last_gate(self) -> float | None:
+        ...
+    @property
+    def tracks(self) -> list[Track]:
+        ...
+class PerceptionFrame:
+    """
+    Everything perception produced for one frame
+    """
+    @property
+    def camera_position(self) -> Vec3:
+        ...
+    @property
+    def estimate_labels(self) -> list[int]:
+        ...
+    @property
+    def estimates(self) -> list[ObjectEstimate]:
+        ...
+    @property
+    def failed_labels(self) -> list[int]:
+        ...
+    @property
+    def failures(self) -> list[str]:
+        ...
+    @property
+    def filter(self) -> SceneFilterResult:
+        ...
+    @property
+    def ms_estimate(self) -> float:
+        ...
+    @property
+    def ms_total(self) -> float:
+        ...
+    @property
+    def ms_track(self) -> float:
+        ...
+    @property
+    def tids(self) -> list[int]:
+        ...
+    @property
+    def time_s(self) -> float:
+        ...
+    @property
+    def views(self) -> list[ViewAssessment]:
+        ...
+class Perception:
+    """
+    Per-frame entry point: scene filter -> two-pass estimates -> view quality -> tracker, for one camera session
+    """
+    def __init__(self, filter_params: SceneFilterParams, obb_params: ObbParams) -> None:
+        ...
+    def process(self, points: Points, camera_position: Vec3Like, time_s: float) -> PerceptionFrame:
+        """
+        One (N,3) float32/float64 frame in world coordinates with the camera position at capture and the capture time [s].
+        """
+    def reset(self) -> None:
+        ...
+    def retire(self, now_s: float) -> None:
+        ...
+    @property
+    def scene_filter(self) -> SceneFilter:
+        ...
+    @property
+    def tracker(self) -> Tracker:
+        ...
+def angle_dist_mod_pi(a_rad: float, b_rad: float) -> float:
+    ...
+def anisotropy_ratio(ext: Sequence[float]) -> float:
+    ...
+def assess_view(object: Vec3Like, camera_position: Vec3Like, n: Vec3Like, nadir_angle_max_deg: float) -> ViewAssessment:
+    ...
+def best_grasp_from_estimate(estimate: ObjectEstimate, plane: Plane) -> BestGrasp | None:
+    ...
+def camera_above_flange_target(object: Vec3Like, plane: Plane, ready_camera_world: Pose, camera_in_flange: Pose) -> Pose:
+    """
+    Flange pose that puts the camera above the object (SPEC 3).
+    """
+def camera_above_pose(object: Vec3Like, plane: Plane, ready_camera_world: Pose) -> Pose:
+    ...
+def choose_direction(ext: Sequence[float], width_tol_m: float, theta_prev: float | None = None) -> DirectionChoice:
+    ...
+def choose_table(planes: Sequence[PlaneCandidate], dominance: float) -> int:
+    """
+    SPEC 1.3: index of the table (dominance, then height), -1 if none.
+    """
+def circular_median_mod_pi(angles_rad: Sequence[float], reference_rad: float) -> float:
+    ...
+def direction_runs(ext: Sequence[float], width_tol_m: float) -> list[DirectionRun]:
+    ...
+def estimate_object(points: Points, plane: Plane, params: ObbParams, theta_prev: float | None = None, band: float | None = None) -> EstimateResult:
+    """
+    SPEC 2: estimate one cluster above the plane.
+    """
+def estimate_with_priors(clusters: Sequence[Points], plane: Plane, params: ObbParams, tracker: Tracker, band: float | None = None) -> list[EstimateResult]:
+    """
+    SPEC 4 two-pass estimation of one frame's clusters.
+    """
+def euclidean_clusters(points: Points, eps_m: float, min_points: int, min_extent_m: float, max_extent_m: float, voxel_m: float = 0.0) -> ClusterResult:
+    """
+    SPEC 1.4: Euclidean clusters (PCL semantics) with extent filters; labels for every row.
+    """
+def extent_along(a: Sequence[float], b: Sequence[float], theta_rad: float) -> float:
+    ...
+def extract_planes(points: Points, params: SceneFilterParams, seed: int = 0) -> list[PlaneCandidate]:
+    """
+    SPEC 1.2: sequential plane extraction; counts are on the whole cloud.
+    """
+def fit_plane_ransac(points: Points, params: SceneFilterParams, seed: int = 0) -> PlaneFit | None:
+    """
+    SPEC 1.1: one horizontal-constrained RANSAC plane (PCL sample consensus) with least-squares refinement and the post-refinement tilt re-check. None if no model.
+    """
+def in_plane_basis(n: Vec3Like) -> tuple[Vec3, Vec3]:
+    """
+    Deterministic (u, v) with u x v = n.
+    """
+def median(values: Sequence[float]) -> float:
+    """
+    Median; an even count gives the mean of the two middle values.
+    """
+def pca_box(points: Points) -> PcaBox | None:
+    """
+    PCA box of the finite rows, or None (fewer than 3 points, coincident, collinear).
+    """
+def pca_box_failure(points: Points) -> str:
+    """
+    Why pca_box() gives None ('' when it succeeds).
+    """
+def pca_tilt_deg(box: PcaBox, n: Vec3Like) -> float:
+    """
+    angle(PCA minor axis, n) [deg]
+    """
+def planes_close(a: Plane, b: Plane, tol_deg: float, tol_m: float) -> bool:
+    """
+    SPEC 1.5 closeness: normal angle <= tol_deg and height diff <= tol_m
+    """
+def scan_angle_rad(t: int, n_theta: int) -> float:
+    ...
+def slice_median_top(d: Sequence[float], sigma_m: float, slice_sigmas: float, iters: int) -> float:
+    ...
+def top_down_rotation(R_box: Mat3Like, n: Vec3Like) -> Mat3 | None:
+    """
+    [n, normalize(closing x n), closing] or None
+    """
+def width_scan(a: Sequence[float], b: Sequence[float], n_theta: int) -> list[float]:
+    """
+    ext(theta_t) for t = 0..n_theta-1 [m]
+    """
+def wrap_mod_pi(x_rad: float) -> float:
+    ...
+LABEL_ENVIRONMENT: int = -1
+LABEL_INVALID: int = -2
