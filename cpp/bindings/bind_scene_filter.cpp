@@ -179,7 +179,8 @@ void bind_scene_filter(py::module_& m) {
       .def(py::init<const SceneFilterParams&>(), py::arg("params"))
       .def("update", &PlanePersistence::update, py::arg("fit"),
            "Feed this frame's fit (None: no plane this frame).")
-      .def_property_readonly("state", &PlanePersistence::state)
+      .def_property_readonly("state", [](const PlanePersistence& p) { return PersistenceState(p.state()); },
+                             "a snapshot (copy) of the lock state")
       .def_property_readonly("locked", &PlanePersistence::locked)
       .def_property_readonly("hardened", &PlanePersistence::hardened)
       .def("reset", &PlanePersistence::reset);
@@ -217,7 +218,8 @@ void bind_scene_filter(py::module_& m) {
            },
            py::arg("points"), "Process one (N,3) float32/float64 frame in world coordinates.")
       .def_property_readonly("persistence", &SceneFilter::persistence, py::return_value_policy::reference_internal)
-      .def_property_readonly("params", &SceneFilter::params)
+      .def_property_readonly("params", [](const SceneFilter& f) { return SceneFilterParams(f.params()); },
+                             "a copy of the parameters (validated at construction)")
       .def_property_readonly("frame_index", &SceneFilter::frame_index)
       .def("reset", &SceneFilter::reset);
 }

@@ -46,7 +46,10 @@ void bind_tracker(py::module_& m) {
           return t.update(ests, q, finite_time(now_s, "now_s"));
         }, py::arg("estimates"), py::arg("qualities"), py::arg("now_s"))
       .def("retire", [](Tracker& t, double now_s) { t.retire(finite_time(now_s, "now_s")); }, py::arg("now_s"))
-      .def_property_readonly("tracks", &Tracker::tracks)
+      // By value: Python must never hold references into the tracker's vector, which
+      // the next update reallocates (that would read freed memory).
+      .def_property_readonly("tracks", [](const Tracker& t) { return std::vector<Track>(t.tracks()); },
+                             "a copy of the tracks, sorted by tid")
       .def_property_readonly("last_gate", &Tracker::last_gate)
       .def("reset", &Tracker::reset);
 

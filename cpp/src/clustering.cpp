@@ -200,9 +200,9 @@ bool components_grid(const PointView& pts, const std::vector<int>& finite, doubl
     for (int dy = -2; dy <= 2; ++dy)
       for (int dx = -2; dx <= 2; ++dx) {
         if (std::make_tuple(dz, dy, dx) <= std::make_tuple(0, 0, 0)) continue;
-        offsets.push_back(static_cast<std::int64_t>(dx) +
-                          (static_cast<std::int64_t>(dy) << kKeyBits) +
-                          (static_cast<std::int64_t>(dz) << (2 * kKeyBits)));
+        // Multiplications, not shifts: the offsets are negative.
+        constexpr std::int64_t kRow = std::int64_t{1} << kKeyBits;
+        offsets.push_back(dx + dy * kRow + dz * kRow * kRow);
       }
 
   const float eps_sq = static_cast<float>(eps_m * eps_m);

@@ -58,12 +58,29 @@ class TrajectoryExecutor:
         raise ExecutionError(f"execution stopped: {message}; the arm holds its current position",
                              reason=reason, time_s=t)
 
-    def _unexpected(self, contacts: list[tuple[str, str]], allowed: tuple[str, ...]) -> list[tuple[str, str]]:
-        return [c for c in contacts if not any(c[1].startswith(p) for p in allowed)]
+    def _unexpected(self, contacts: list[tuple[str, str]], allowed: tuple[str, ...],
+                    contact_ok=None) -> list[tuple[str, str]]:
+        return [c for c in contacts if not any(c[1].startswith(p) for p in allowed)
+                and not (contact_ok is not None and contact_ok(c[0], c[1]))]
 
     def execute(self, traj: JointTrajectory, allowed_contact_prefixes: tuple[str, ...] = (),
-                wait_settled: bool = True) -> ExecutionReport:
-        """Run ``traj`` to completion (blocking in simulated time); see the module doc."""
+                wait_settled: bool = True, contact_ok=None) -> ExecutionReport:
+        """Run ``traj`` to completion (blocking in simulated time); see the module doc.
+
+        ``contact_ok(robot_geom, other_geom) -> bool`` marks further expected contacts
+        (e.g. the finger pads on the object being grasped)."""
+        steps = self.execute_steps(traj, allowed_contact_prefixes, wait_settled, contact_ok)
+        while True:
+            try:
+                next(steps)
+            except StopIteration as done:
+                return done.value
+
+    def execute_steps(self, traj: JointTrajectory, allowed_contact_prefixes: tuple[str, ...] = (),
+                      wait_settled: bool = True, contact_ok=None):
+        """Generator form of :meth:`execute` for cooperative callers (the orchestrator's
+        runtime): it steps the world itself and yields after every physics step, so other
+        tasks (a scan's status, perception) can run in between; returns the report."""
         cfg = self.config
         w = self.world
         rep = ExecutionReport()
@@ -80,7 +97,8 @@ class TrajectoryExecutor:
         try:
             while w.time_s < t_end - 0.5 * w.timestep_s:
                 w.step(_MONITOR_EVERY_STEPS)
-                self._monitor(rep, allowed_contact_prefixes)
+                self._monitor(rep, allowed_contact_prefixes, contact_ok)
+                yield
             rep.duration_s = float(w.time_s - t_start)
             if wait_settled:
                 q_final = traj.q[-1]
@@ -95,17 +113,18 @@ class TrajectoryExecutor:
                         self._stop("settle", f"the arm did not settle within {cfg.settle_timeout_s} s "
                                              f"(error {err:.4f} rad, speed {np.max(np.abs(w.qd)):.4f} rad/s)")
                     w.step(_MONITOR_EVERY_STEPS)
-                    self._monitor(rep, allowed_contact_prefixes)
+                    self._monitor(rep, allowed_contact_prefixes, contact_ok)
+                    yield
                 rep.settle_time_s = float(w.time_s - t_start - rep.duration_s)
             rep.final_error_rad = float(np.max(np.abs(w.q - traj.q[-1])))
         except ExecutionError:
             raise
-        except Exception:
+        except BaseException:
             w.hold()
             raise
         return rep
 
-    def _monitor(self, rep: ExecutionReport, allowed: tuple[str, ...]) -> None:
+    def _monitor(self, rep: ExecutionReport, allowed: tuple[str, ...], contact_ok=None) -> None:
         cfg = self.config
         w = self.world
         q_ref, _ = w.reference()
@@ -115,7 +134,7 @@ class TrajectoryExecutor:
             self._stop("tracking", f"tracking error {err:.4f} rad exceeds {cfg.tracking_error_limit_rad} rad")
         contacts = w.robot_contacts()
         if contacts:
-            bad = self._unexpected(contacts, allowed)
+            bad = self._unexpected(contacts, allowed, contact_ok)
             if bad:
                 rep.contacts.extend(bad)
                 if cfg.stop_on_contact:

@@ -203,6 +203,7 @@ class SimWorld:
         self.camera_config = cam_cfg
         self.camera: DepthCamera | None = DepthCamera(m, self.data, cam_cfg) if camera else None
         self._next_frame_time_s = float(self.data.time)
+        self._frame_listeners: list[Callable[[Frame], None]] = []
 
     # ------------------------------------------------------------------ lifecycle
     def close(self) -> None:
@@ -385,11 +386,32 @@ class SimWorld:
         self.data.ctrl[self._grip_act] = self._grip_cmd_m
 
     def step(self, n: int = 1) -> None:
-        """Advance the physics by ``n`` steps, updating the controls before each."""
+        """Advance the physics by ``n`` steps, updating the controls before each.
+
+        When frame listeners are registered (:meth:`add_frame_listener`), a depth frame is
+        captured whenever one is due at the camera rate and handed to each listener, so
+        whoever steps the world (an executor, a gripper wait) keeps perception fed — the
+        camera behaves like a sensor publishing at its rate.
+        """
         m, d = self.model, self.data
         for _ in range(n):
             self._apply_controls()
             mujoco.mj_step(m, d)
+            if self._frame_listeners:
+                frame = self.poll_frame()
+                if frame is not None:
+                    for listener in list(self._frame_listeners):
+                        listener(frame)
+
+    def add_frame_listener(self, listener: Callable[[Frame], None]) -> None:
+        """Call ``listener(frame)`` for every frame due while the world is stepped."""
+        if self.camera is None:
+            raise ModelError("this SimWorld was created with camera=False: no frames to listen to")
+        self._frame_listeners.append(listener)
+
+    def remove_frame_listener(self, listener: Callable[[Frame], None]) -> None:
+        if listener in self._frame_listeners:
+            self._frame_listeners.remove(listener)
 
     def run_until(self, until: float | Callable[["SimWorld"], bool], *,
                   max_duration_s: float | None = None,
@@ -415,15 +437,17 @@ class SimWorld:
 
             def done() -> bool:
                 return self.time_s >= t_goal - 0.5 * self.timestep_s
-        while not done():
-            if self.time_s >= t_limit - 0.5 * self.timestep_s:
-                return False
-            self.step()
+        if on_frame is not None:
+            self.add_frame_listener(on_frame)
+        try:
+            while not done():
+                if self.time_s >= t_limit - 0.5 * self.timestep_s:
+                    return False
+                self.step()
+            return True
+        finally:
             if on_frame is not None:
-                frame = self.poll_frame()
-                if frame is not None:
-                    on_frame(frame)
-        return True
+                self.remove_frame_listener(on_frame)
 
     # ------------------------------------------------------------------ camera
     def capture(self) -> Frame:

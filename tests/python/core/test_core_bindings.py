@@ -156,3 +156,23 @@ def test_fuzz_angle_helpers(angles, ref):
     if ext:
         choice = _core.choose_direction(ext, 0.002, None)
         assert 0 <= choice.theta_rad < np.pi
+
+
+def test_tracks_are_copies_that_survive_later_frames():
+    """Regression: `tracker.tracks` once returned references into the C++ vector, which the
+    next update reallocated — held tracks then read freed memory (garbage boxes)."""
+    per = _core.Perception(_core.SceneFilterParams(), _core.ObbParams())
+    cloud = np.vstack([table_cloud(20000), cube_cloud((0.45, -0.1), seed=2), cube_cloud((0.6, 0.1), seed=3)])
+    per.process(cloud, [0.3, 0.0, 0.6], 0.0)
+    held = per.tracker.tracks
+    centres = [np.array(t.smoothed.center) for t in held]
+    views = [t.smoothed.center for t in held]  # numpy views tied to the copies
+    for k in range(1, 40):  # tracks retire and new ones are created meanwhile
+        shifted = cloud + np.array([0.3 * (k % 2), 0.0, 0.0])
+        per.process(shifted, [0.3, 0.0, 0.6], 3.0 * k)
+    for c, v in zip(centres, views):
+        assert np.array_equal(np.asarray(v), c)
+    state = per.scene_filter.persistence.state
+    hits = state.hits
+    per.process(cloud, [0.3, 0.0, 0.6], 200.0)
+    assert state.hits == hits  # a snapshot, not a live view

@@ -43,6 +43,26 @@ def test_scene_filter_defaults_are_the_spec_table():
 
 
 # --------------------------------------------------------------------------------------
+# 0 / 1.3 plane conventions and the published plane
+
+
+def test_plane_conventions_and_published_form():
+    n = np.array([0.1, -0.2, -1.0])  # given pointing down: re-oriented so n_z > 0
+    pl = _core.Plane(n, 0.3)
+    assert pl.n[2] > 0 and np.linalg.norm(pl.n) == pytest.approx(1.0)
+    assert np.allclose(pl.n, -n / np.linalg.norm(n)) and pl.c == pytest.approx(-0.3 / np.linalg.norm(n))
+    assert pl.height_m == pytest.approx(-pl.c / pl.n[2])
+    above = np.array([0.0, 0.0, pl.height_m + 0.05])
+    assert pl.signed_distance(above) > 0 and pl.signed_distance([0, 0, pl.height_m]) == pytest.approx(0.0)
+    foot = pl.foot()  # the published point: foot of the origin, -c n
+    assert np.allclose(foot, -pl.c * pl.n) and pl.signed_distance(foot) == pytest.approx(0.0, abs=1e-15)
+    R = pl.rotation()  # rotation taking +z to n
+    assert np.allclose(R @ [0, 0, 1], pl.n) and np.linalg.det(R) == pytest.approx(1.0)
+    assert np.allclose(R.T @ R, np.eye(3))
+    assert pl.tilt_deg() == pytest.approx(np.degrees(np.arccos(pl.n[2])))
+
+
+# --------------------------------------------------------------------------------------
 # 1.1 one RANSAC plane
 
 

@@ -1,0 +1,68 @@
+"""Parameter sets of the orchestration: ``config/scan.yaml`` and ``config/grasp.yaml``."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+
+from ..exceptions import ConfigError
+from ..settings import register_section
+
+
+def _positive(obj, *names: str, allow_zero: bool = False) -> None:
+    for n in names:
+        v = getattr(obj, n)
+        if not (v >= 0 if allow_zero else v > 0) or v != v:
+            raise ConfigError(f"{type(obj).__name__}.{n} = {v}: expected a "
+                              f"{'non-negative' if allow_zero else 'positive'} number")
+
+
+@dataclass(frozen=True)
+class ScanConfig:
+    """SPEC 6 active scan and perception liveness."""
+
+    dwell_frames: int = 5
+    dwell_timeout_s: float = 5.0
+    stale_timeout_s: float = 2.0
+    return_to_start: bool = True
+    select_verify_frames: int = 3
+    return_settle_tol_rad: float = 1e-4
+    return_settle_timeout_s: float = 1.0
+
+    def validate(self) -> None:
+        _positive(self, "dwell_timeout_s", "stale_timeout_s", "return_settle_tol_rad",
+                  "return_settle_timeout_s")
+        _positive(self, "dwell_frames", "select_verify_frames", allow_zero=True)
+
+
+@dataclass(frozen=True)
+class GraspConfig:
+    """SPEC 7 grasp action and the PLACE stage (ours)."""
+
+    pre_grasp_distance_m: float = 0.12
+    open_margin_m: float = 0.02
+    close_effort_N: float = 40.0
+    close_command_fraction: float = 0.5
+    close_squeeze_m: float = 0.01
+    gripper_goal_tolerance_m: float = 0.001
+    stall_speed_mps: float = 0.005
+    stall_time_s: float = 0.5
+    close_timeout_s: float = 8.0
+    fully_closed_gap_m: float = 0.004
+    held_gap_drop_m: float = 0.003
+    lift_height_m: float = 0.10
+    hold_check_s: float = 2.0
+    retreat_height_m: float = 0.10
+    place_height_m: float = 0.12
+    place_slot_offset_m: float = 0.045
+    release_wait_s: float = 0.6
+
+    def validate(self) -> None:
+        _positive(self, *(f.name for f in fields(self)
+                          if f.name not in ("close_squeeze_m", "place_slot_offset_m")))
+        _positive(self, "close_squeeze_m", "place_slot_offset_m", allow_zero=True)
+        if not 0 < self.close_command_fraction <= 1:
+            raise ConfigError("GraspConfig.close_command_fraction: expected (0, 1]")
+
+
+register_section("scan", __name__, "ScanConfig")
+register_section("grasp", __name__, "GraspConfig")

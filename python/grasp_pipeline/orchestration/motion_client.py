@@ -1,0 +1,93 @@
+"""The orchestrator's handle on the motion layer: plan on the *perceived* scene, execute as
+runtime tasks.
+
+Obstacles come from perception only — the environment points of a frame taken at a known
+arm pose (for the robot's self-filter) and the oriented boxes of the tracked objects —
+plus the work cell's fixed furniture that is part of the robot's set-up (the tray's
+boxes, read from the model like a work-cell description; never an object's pose).
+Motions are planned from the last *commanded* joints (the measured ones lag by ~1e-3 rad,
+which can put a start state a fraction of a millimetre inside a clearance).
+"""
+
+from __future__ import annotations
+
+import logging
+from typing import Optional, Sequence
+
+import numpy as np
+
+from ..motion.executor import ExecutionReport, TrajectoryExecutor
+from ..motion.motion_planner import MotionPlanner
+from ..motion.occupancy import OrientedBox
+from ..motion.trajectory import JointTrajectory
+
+log = logging.getLogger("grasp_pipeline.motion_client")
+
+FIXTURE_PREFIX = "tray_"
+
+
+def fixture_boxes(world, prefix: str = FIXTURE_PREFIX) -> list[OrientedBox]:
+    """Boxes of the work cell's fixed furniture named ``prefix*`` (the tray)."""
+    import mujoco
+
+    m, d = world.model, world.data
+    mujoco.mj_kinematics(m, d)
+    out = []
+    for g in range(m.ngeom):
+        name = m.geom(g).name
+        if name.startswith(prefix) and m.geom_type[g] == mujoco.mjtGeom.mjGEOM_BOX:
+            out.append(OrientedBox(d.geom_xpos[g].copy(), d.geom_xmat[g].reshape(3, 3).copy(),
+                                   2.0 * m.geom_size[g].copy()))
+    return out
+
+
+class MotionClient:
+    """Plans with :class:`MotionPlanner` and executes with :class:`TrajectoryExecutor`."""
+
+    def __init__(self, world, planner: MotionPlanner) -> None:
+        self.world = world
+        self.planner = planner
+        self.executor = TrajectoryExecutor(world, planner.config)
+        self.fixtures = fixture_boxes(world)
+        self.q_cmd = np.asarray(world.q, dtype=float).copy()
+        self.object_boxes: list[OrientedBox] = []
+        self.plans: list[dict] = []  # log of every plan: kind, method, ms, duration
+
+    # ---- scene ------------------------------------------------------------------
+    def set_scene(self, environment_points: np.ndarray, object_boxes: Sequence[OrientedBox],
+                  capture_q: Optional[np.ndarray], target_index: Optional[int] = None) -> None:
+        """Perceived obstacles; ``target_index`` indexes ``object_boxes`` (not an obstacle)."""
+        self.object_boxes = list(object_boxes)
+        boxes = self.object_boxes + self.fixtures
+        self.planner.set_scene(environment_points, boxes, capture_q=capture_q,
+                               target_index=target_index)
+
+    def set_target(self, target_index: Optional[int]) -> None:
+        self.planner.set_target(target_index)
+
+    # ---- motions (task generators returning an ExecutionReport) -------------------
+    def _execute(self, kind: str, traj: JointTrajectory, contact_ok=None):
+        self.plans.append({"kind": kind, "method": traj.path.method if traj.path else "",
+                           "planning_ms": traj.path.planning_ms if traj.path else 0.0,
+                           "timing_ms": traj.timing_ms, "duration_s": traj.duration_s})
+        report: ExecutionReport = yield from self.executor.execute_steps(traj, contact_ok=contact_ok)
+        self.q_cmd = traj.q[-1].copy()
+        return report
+
+    def sync(self) -> None:
+        """After a stop, plan from where the arm actually is."""
+        self.q_cmd = np.asarray(self.world.q, dtype=float).copy()
+
+    def to_joints(self, q_goal: np.ndarray, kind: str = "joints", contact_ok=None):
+        traj = self.planner.plan_to_joints(self.q_cmd, np.asarray(q_goal, dtype=float))
+        return (yield from self._execute(kind, traj, contact_ok))
+
+    def to_pose(self, T_world: np.ndarray, frame: str = "tcp", kind: str = "pose", contact_ok=None):
+        traj = self.planner.plan_to_pose(self.q_cmd, T_world, frame)
+        return (yield from self._execute(kind, traj, contact_ok))
+
+    def line(self, T_world: np.ndarray, frame: str = "tcp", kind: str = "line",
+             allow_target_contact: bool = False, contact_ok=None):
+        """Straight TCP line; ``contact_ok(robot_geom, other_geom)`` marks expected contacts."""
+        traj = self.planner.plan_cartesian(self.q_cmd, T_world, frame, allow_target_contact)
+        return (yield from self._execute(kind, traj, contact_ok))

@@ -1,0 +1,121 @@
+"""The perception loop: every camera frame → one core call → tracker → best grasp.
+
+``PerceptionLoop.on_frame`` is registered as a frame listener of the simulated camera
+(``SimWorld.add_frame_listener``), so perception runs at the camera rate whoever steps
+the world. It keeps what a consumer needs at any time: the latched plane and band, the
+tracks, the latest frame, the ready (start-up) camera pose, liveness (``stale``) and, after
+a selection, the best grasp re-resolved from the anchor on every frame.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+
+from .. import _core
+from ..perception import FrameResult, PerceptionSession
+from .config import ScanConfig
+from .selection import Selector, SelectResult
+
+log = logging.getLogger("grasp_pipeline.perception_loop")
+
+
+@dataclass
+class FrameInfo:
+    """What the loop keeps of the latest frame."""
+
+    time_s: float
+    T_world_camera: np.ndarray
+    result: FrameResult
+    q: Optional[np.ndarray] = None  # arm joints at capture (for the planner's self-filter)
+
+
+class PerceptionLoop:
+    """Frames in, tracks and best grasps out (one instance per run)."""
+
+    def __init__(self, session: PerceptionSession, scan_config: ScanConfig | None = None) -> None:
+        self.session = session
+        self.config = scan_config or ScanConfig()
+        self.selector = Selector()
+        self.latest: Optional[FrameInfo] = None
+        self.frames = 0
+        self.ready_camera_pose: Optional[np.ndarray] = None  # recorded once, at start-up
+        self._last_labels = ""
+        self.stale_reported = False
+
+    # ---- frames -------------------------------------------------------------------
+    def on_frame(self, frame, q: Optional[np.ndarray] = None) -> None:
+        """Process one camera frame (``sim.Frame``: points_world, time_s, T_world_camera);
+        ``q``: the arm joints at capture, if known."""
+        T = np.asarray(frame.T_world_camera)
+        res = self.session.process(frame.points_world, T[:3, 3], frame.time_s)
+        if self.ready_camera_pose is None:
+            self.ready_camera_pose = T.copy()
+        self.latest = FrameInfo(float(frame.time_s), T, res, None if q is None else np.array(q))
+        self.frames += 1
+        self.stale_reported = False
+        labels = self.session.view_labels(res)
+        if labels and labels != self._last_labels:
+            log.info("views: %s", labels)
+        self._last_labels = labels
+        self.selector.on_frame(self.tracks(), self.gate_m, self.plane, float(frame.time_s))
+
+    # ---- latched state ------------------------------------------------------------
+    @property
+    def plane(self) -> Optional["_core.Plane"]:
+        return self.session.plane
+
+    @property
+    def band_m(self) -> float:
+        return self.session.band_m
+
+    @property
+    def plane_locked(self) -> bool:
+        return self.session.plane_locked
+
+    @property
+    def gate_m(self) -> Optional[float]:
+        return self.session.tracker.last_gate
+
+    def tracks(self) -> list:
+        return self.session.tracks()
+
+    def last_frame_time_s(self) -> Optional[float]:
+        return None if self.latest is None else self.latest.time_s
+
+    def stale(self, now_s: float) -> bool:
+        """No frame for ``stale_timeout_s`` (simulated time) = upstream dead."""
+        t = self.last_frame_time_s()
+        return t is None or now_s - t > self.config.stale_timeout_s
+
+    def report_if_stale(self, now_s: float) -> bool:
+        """Log once and drop the published grasp when upstream is dead (SPEC 6)."""
+        if not self.stale(now_s):
+            return False
+        if not self.stale_reported:
+            t = self.last_frame_time_s()
+            log.error("perception is stale: no camera frame for %s (limit %.1f s); "
+                      "not acting on old estimates",
+                      "ever" if t is None else f"{now_s - t:.2f} s", self.config.stale_timeout_s)
+            self.stale_reported = True
+        self.selector.best_grasp = None
+        return True
+
+    # ---- selection ----------------------------------------------------------------
+    def select(self, x: float, y: float) -> SelectResult:
+        return self.selector.select(x, y, self.tracks(), self.gate_m, self.plane)
+
+    def nearest_track(self, xy: np.ndarray, within_gate: bool = True):
+        """Track nearest to a horizontal position (within the gate when one is defined)."""
+        best, best_d = None, np.inf
+        for t in self.tracks():
+            d = float(np.hypot(*(np.asarray(t.smoothed.center[:2]) - xy)))
+            if d < best_d:
+                best, best_d = t, d
+        gate = self.gate_m
+        if best is not None and within_gate and gate is not None and best_d > gate:
+            return None
+        return best

@@ -1,0 +1,207 @@
+"""``grasp-pipeline run``: rough view → active scan → pick (and place) the selected objects.
+
+One function, :func:`run_pipeline`, wires the parts together — the simulated world and its
+camera, the perception loop, the motion client, the scan, selection and the grasp action —
+and writes the report JSON, PNG snapshots (after the rough view and after the scan) and an
+MP4. Ground truth enters only through :mod:`.scoring`, for the report's scores.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import time
+from pathlib import Path
+from typing import Optional, Sequence
+
+import numpy as np
+
+from ..motion.motion_planner import MotionPlanner
+from ..perception import PerceptionSession
+from ..report.snapshot import render_snapshot
+from ..settings import Settings, load_settings
+from ..sim.robot_model import flange_T_camera
+from ..sim.scenes import random_scene, reference_scene
+from ..sim.world import SimWorld
+from .grasp_action import GraspAction
+from .motion_client import MotionClient
+from .perception_loop import PerceptionLoop
+from .recorder import RunRecorder
+from .runtime import Runtime
+from .scan import ActiveScan
+from . import scoring
+
+log = logging.getLogger("grasp_pipeline.run")
+
+SECTIONS = ("scene_filter", "obb", "camera", "sim", "motion", "scan", "grasp")
+ROUGH_VIEW_S = 0.5           # frames at the start pose before the scan (plane hardens after 5)
+SETTLE_VIEW_S = 0.3          # fresh frames at the start pose before each selection
+SCAN_TIMEOUT_S = 120.0       # simulated
+PICK_TIMEOUT_S = 90.0        # simulated
+TRAY_SITE = "tray_centre"
+TRAY_HALF_SIZE_M = 0.09
+MIN_LIFT_EVAL_M = 0.05       # the report's "lifted" threshold (issue: ≥ 5 cm)
+
+
+def _snapshot(loop: PerceptionLoop, path: Path, title: str) -> str:
+    res = loop.latest.result
+    obj, labels = res.object_points()
+    boxes, grasps = [], []
+    plane = loop.plane
+    for tr in loop.tracks():
+        e = tr.smoothed
+        boxes.append((np.asarray(e.center), np.asarray(e.R_box), np.asarray(e.extents)))
+        top = np.asarray(e.center) + 0.5 * e.height_m * np.asarray(plane.n)
+        grasps.append((top, -np.asarray(plane.n)))
+    return render_snapshot(path, obj, labels, res.environment_points(), boxes, grasps,
+                           plane=plane, title=title)
+
+
+def _tracks_report(loop: PerceptionLoop) -> list[dict]:
+    out = []
+    for tr in loop.tracks():
+        e = tr.smoothed
+        out.append({"tid": int(tr.tid), "quality": tr.quality.name, "pca_tilt_deg": float(e.pca_tilt_deg),
+                    "center": [float(x) for x in e.center],
+                    "extents": [float(x) for x in e.extents],
+                    "theta_deg": float(np.degrees(e.theta_rad)), "grasp_ok": bool(e.grasp_ok),
+                    "notes": list(e.notes)})
+    return out
+
+
+def _default_targets(loop: PerceptionLoop) -> list[tuple[float, float]]:
+    """All tracked objects, nearest to the robot base first."""
+    cs = [np.asarray(t.smoothed.center[:2], float) for t in loop.tracks()]
+    cs.sort(key=lambda c: float(np.hypot(*c)))
+    return [(float(c[0]), float(c[1])) for c in cs]
+
+
+def run_pipeline(scene: str = "reference", seed: int = 0, select: Optional[Sequence[tuple[float, float]]] = None,
+                 out_dir: str | Path = "out", json_path: str | Path | None = None,
+                 settings: Optional[Settings] = None, video: bool = True, place: bool = True,
+                 scan: bool = True) -> dict:
+    """Run the whole pipeline headless; returns (and writes) the report."""
+    wall0 = time.perf_counter()
+    settings = settings or load_settings(SECTIONS)
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    spec = reference_scene(settings.sim) if scene == "reference" else random_scene(seed, config=settings.sim)
+    timings: dict[str, float] = {}
+    report: dict = {"scene": {"name": spec.name, "seed": seed, "objects": len(spec.objects)},
+                    "settings": settings.as_dict()}
+    world = SimWorld(spec, settings.sim, settings.camera)
+    recorder = None
+    try:
+        session = PerceptionSession(settings.scene_filter, settings.obb)
+        loop = PerceptionLoop(session, settings.scan)
+        world.add_frame_listener(lambda f: loop.on_frame(f, world.q))
+        rt = Runtime(world)
+        if video:
+            recorder = RunRecorder(world, out_dir / "run.mp4")
+            rt.observers.append(recorder)
+        motion = MotionClient(world, MotionPlanner(settings.motion))
+        start_q = np.asarray(world.q, float).copy()
+        tray = world.data.site(TRAY_SITE).xpos.copy()
+        scanner = ActiveScan(rt, loop, motion, flange_T_camera(world.model), settings.scan)
+        action = GraspAction(rt, loop, motion, settings.grasp, tray_center=tray, home_q=start_q)
+
+        # -- rough view -------------------------------------------------------------
+        t0 = time.perf_counter()
+        rt.spin(ROUGH_VIEW_S)
+        timings["rough_view_s"] = time.perf_counter() - t0
+        if loop.plane is None:
+            report["error"] = "no table plane found from the start pose"
+            return report  # (the finally block writes the report)
+        report["rough"] = {"tracks": _tracks_report(loop),
+                           "scores": scoring.score_estimates(world, loop.tracks()),
+                           "snapshot": _snapshot(loop, out_dir / "rough.png", "rough view (start pose)")}
+        report["plane"] = {"normal": [float(x) for x in loop.plane.n], "c": float(loop.plane.c),
+                           "height_m": float(loop.plane.height_m)}
+
+        # -- scan -------------------------------------------------------------------
+        if scan:
+            t0 = time.perf_counter()
+            trig = scanner.trigger()
+            outcome = rt.run(scanner.task, SCAN_TIMEOUT_S) if trig.accepted else None
+            timings["scan_s"] = time.perf_counter() - t0
+            rt.spin(SETTLE_VIEW_S)
+            report["scan"] = {
+                "trigger": trig.message,
+                "completed": bool(outcome and outcome.completed),
+                "returned_to_start": bool(outcome and outcome.returned_to_start),
+                "joint_error_rad": None if outcome is None else outcome.joint_error_rad,
+                "failure": "" if outcome is None else outcome.failure,
+                "probes": [] if outcome is None else [p.__dict__ for p in outcome.probes],
+                "tracks": _tracks_report(loop),
+                "scores": scoring.score_estimates(world, loop.tracks()),
+                "snapshot": _snapshot(loop, out_dir / "scan.png", "after the active scan"),
+            }
+
+        # -- picks ------------------------------------------------------------------
+        t0 = time.perf_counter()
+        targets = list(select) if select else _default_targets(loop)
+        report["picks"] = [_pick(rt, loop, action, world, xy, settings, tray, place) for xy in targets]
+        timings["picks_s"] = time.perf_counter() - t0
+        report["motion_plans"] = motion.plans
+    finally:
+        if recorder is not None:
+            report["video"] = recorder.close()
+        world.close()
+        _finish(report, json_path, wall0, timings)
+    return report
+
+
+def _pick(rt: Runtime, loop: PerceptionLoop, action: GraspAction, world, xy, settings, tray, place) -> dict:
+    rt.spin(SETTLE_VIEW_S)
+    row = {"anchor": [float(xy[0]), float(xy[1])], "success": False, "failed_stage": None,
+           "message": "", "lift_m": 0.0, "held_s": 0.0, "placed": False}
+    sel = loop.select(*xy)
+    if not sel.ok:
+        row.update(failed_stage="SELECT", message=sel.message)
+        return row
+    # The best grasp must actually arrive (a dead upstream must not look like success).
+    n_verify = settings.scan.select_verify_frames
+    if not rt.spin_until(lambda: loop.selector.published >= n_verify, settings.scan.stale_timeout_s):
+        row.update(failed_stage="SELECT", message=f"selected, but no best grasp arrived within "
+                                                  f"{settings.scan.stale_timeout_s} s")
+        loop.selector.clear()
+        return row
+    name = scoring.nearest_truth_name(world, xy)
+    lift = scoring.LiftRecorder(name) if name else None
+    if lift:
+        rt.observers.append(lift)
+    try:
+        ok, msg = action.start(place=place)
+        if not ok:
+            row.update(failed_stage="GRASP", message=msg)
+            return row
+        out = rt.run(action.task, PICK_TIMEOUT_S)
+    finally:
+        loop.selector.clear()
+        if lift:
+            rt.observers.remove(lift)
+    row.update(success=out.success, failed_stage=out.failed_stage, message=out.message or "picked",
+               stages=out.stages, stall_gap_m=out.stall_gap_m, width_m=out.width_m,
+               selected=sel.message)
+    if lift:
+        lift.released_at = out.release_time_s
+        row.update(lift.result(MIN_LIFT_EVAL_M), object=name)
+        row["placed"] = bool(out.placed and scoring.in_tray(world, name, tray, TRAY_HALF_SIZE_M, tray[2]))
+    return row
+
+
+def _finish(report: dict, json_path, wall0: float, timings: dict) -> dict:
+    timings["wall_s"] = time.perf_counter() - wall0
+    report["timings"] = timings
+    if json_path is not None:
+        Path(json_path).parent.mkdir(parents=True, exist_ok=True)
+        Path(json_path).write_text(json.dumps(report, indent=2, default=_json_default))
+    return report
+
+
+def _json_default(o):
+    if isinstance(o, np.ndarray):
+        return o.tolist()
+    if isinstance(o, (np.floating, np.integer)):
+        return o.item()
+    return str(o)

@@ -1,0 +1,95 @@
+"""A cooperative runtime: one simulated world, camera frames to perception, background tasks.
+
+The simulator is stepped in one thread. Long-running behaviours (the active scan, the
+grasp action) are *tasks*: Python generators that yield whenever they wait for simulated
+time to pass. :meth:`Runtime.step` advances every running task once and, if none of them
+stepped the world itself (an executor stepping a trajectory does), steps the world by one
+physics step. Camera frames reach perception through the world's frame listeners, so
+perception runs at the camera rate whoever steps. A trigger such as ``scan.trigger()``
+therefore returns at once and the work happens while the caller spins the runtime —
+the non-blocking service semantics of SPEC 6, without threads.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, field
+from typing import Any, Callable, Generator, Optional
+
+log = logging.getLogger("grasp_pipeline.runtime")
+
+TaskGen = Generator[None, None, Any]
+
+
+@dataclass
+class Task:
+    """A running behaviour; ``result`` / ``error`` are set when it ends."""
+
+    name: str
+    gen: TaskGen
+    done: bool = False
+    result: Any = None
+    error: Optional[BaseException] = None
+
+
+@dataclass
+class Runtime:
+    """Steps ``world`` and the tasks; ``observers`` are called after every physics step."""
+
+    world: Any
+    tasks: list = field(default_factory=list)
+    observers: list = field(default_factory=list)
+
+    def start(self, name: str, gen: TaskGen) -> Task:
+        task = Task(name, gen)
+        self.tasks.append(task)
+        return task
+
+    def step(self) -> None:
+        t_before = self.world.time_s
+        for task in list(self.tasks):
+            try:
+                next(task.gen)
+            except StopIteration as stop:
+                task.done, task.result = True, stop.value
+            except Exception as exc:  # a task failure must not kill the runtime
+                log.exception("task %s failed", task.name)
+                task.done, task.error = True, exc
+            if task.done:
+                self.tasks.remove(task)
+        if self.world.time_s == t_before:
+            self.world.step(1)
+        for obs in self.observers:
+            obs(self.world)
+
+    def spin_until(self, done: Callable[[], bool], timeout_s: float) -> bool:
+        """Step until ``done()`` (True) or ``timeout_s`` of simulated time passed (False)."""
+        t_end = self.world.time_s + timeout_s
+        while not done():
+            if self.world.time_s >= t_end:
+                return False
+            self.step()
+        return True
+
+    def spin(self, duration_s: float) -> None:
+        t_end = self.world.time_s + duration_s
+        while self.world.time_s < t_end - 0.5 * self.world.timestep_s:
+            self.step()
+
+    def run(self, task: Task, timeout_s: float) -> Any:
+        """Spin until ``task`` ends; re-raise its error; TimeoutError after ``timeout_s``."""
+        if not self.spin_until(lambda: task.done, timeout_s):
+            task.gen.close()  # runs the task's cleanup (an executor holds the arm)
+            if task in self.tasks:
+                self.tasks.remove(task)
+            raise TimeoutError(f"task {task.name} did not finish within {timeout_s} s (simulated)")
+        if task.error is not None:
+            raise task.error
+        return task.result
+
+
+def wait_s(world, duration_s: float) -> TaskGen:
+    """Task helper: let ``duration_s`` of simulated time pass."""
+    t_end = world.time_s + duration_s
+    while world.time_s < t_end - 0.5 * world.timestep_s:
+        yield

@@ -1,0 +1,221 @@
+"""Active scan (SPEC 6): IDLE → ROUGH → PROBING(i) → RETURN, no way back.
+
+``ActiveScan.trigger()`` checks the refusals (camera geometry unknown; no motion planner;
+plane not locked; already scanning — saying which object i/N and stage; no objects seen),
+then answers ``"scan started: probing N objects"`` and the scan runs as a runtime task:
+ROUGH takes each track's rough centre and fixes the order (start joints are recorded at the
+trigger); upstream liveness is checked once, before the first motion; each probe moves
+the camera above object i (SPEC 3 pose, planned on the perceived scene), waits for
+``dwell_frames`` new frames, then up to ``dwell_timeout_s`` until *that* object has a NADIR
+estimate produced after arrival, and logs every track's view angle. A planning or motion
+failure stops probing (the rest are skipped). RETURN to the start joints runs whenever
+``return_to_start`` is set and start joints were recorded, also after a failure. At the end:
+stage IDLE, i/N = 0, the liveness flags reset. :attr:`status` is readable at any time.
+"""
+
+from __future__ import annotations
+
+import enum
+import logging
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+
+from .. import _core
+from ..exceptions import GraspPipelineError
+from .config import ScanConfig
+from .runtime import Runtime, Task
+from .scene_model import snapshot
+
+log = logging.getLogger("grasp_pipeline.scan")
+
+
+class ScanStage(enum.Enum):
+    IDLE = "idle"
+    ROUGH = "rough"
+    PROBING = "probing"
+    RETURN = "return"
+
+
+@dataclass(frozen=True)
+class TriggerResult:
+    accepted: bool
+    message: str
+
+
+@dataclass
+class ProbeResult:
+    """One object's probe."""
+
+    index: int
+    rough_center: list
+    tid: Optional[int] = None
+    nadir: bool = False
+    message: str = ""
+    view_angles_deg: dict = field(default_factory=dict)
+
+
+@dataclass
+class ScanOutcome:
+    probes: list = field(default_factory=list)
+    completed: bool = False
+    returned_to_start: bool = False
+    joint_error_rad: Optional[float] = None
+    failure: str = ""
+    start_q: Optional[list] = None
+
+
+class ActiveScan:
+    """The scan state machine; one instance per run."""
+
+    def __init__(self, runtime: Runtime, loop, motion, camera_in_flange: Optional[np.ndarray],
+                 config: ScanConfig | None = None) -> None:
+        self.rt = runtime
+        self.loop = loop
+        self.motion = motion
+        self.camera_in_flange = camera_in_flange
+        self.config = config or ScanConfig()
+        self.stage = ScanStage.IDLE
+        self.index = 0
+        self.total = 0
+        self.task: Optional[Task] = None
+        self.last_outcome: Optional[ScanOutcome] = None
+
+    # ---- status -------------------------------------------------------------------
+    @property
+    def status(self) -> dict:
+        return {"stage": self.stage.value, "i": self.index, "n": self.total}
+
+    def status_text(self) -> str:
+        if self.stage is ScanStage.PROBING:
+            return f"probing object {self.index}/{self.total}"
+        return f"stage {self.stage.value}" + (f" ({self.total} objects)" if self.total else "")
+
+    # ---- trigger ------------------------------------------------------------------
+    def trigger(self) -> TriggerResult:
+        """Check the refusals, then start the scan in the background."""
+        if self.camera_in_flange is None or self.loop.ready_camera_pose is None:
+            return self._refuse("scan refused: camera geometry unknown (no camera pose in the "
+                                "flange frame or no frame seen yet)")
+        if self.motion is None:
+            return self._refuse("scan refused: no motion planner available")
+        if not self.loop.plane_locked:
+            return self._refuse("scan refused: table plane not locked yet; wait for perception "
+                                "to see the table")
+        if self.stage is not ScanStage.IDLE:
+            return self._refuse(f"scan refused: already scanning ({self.status_text()}, stage "
+                                f"{self.stage.value})")
+        tracks = self.loop.tracks()
+        if not tracks:
+            return self._refuse("scan refused: no objects seen")
+        start_q = np.asarray(self.rt.world.q, dtype=float).copy()
+        self.stage, self.total, self.index = ScanStage.ROUGH, len(tracks), 0
+        self.task = self.rt.start("scan", self._run(start_q))
+        msg = f"scan started: probing {len(tracks)} objects"
+        log.info("%s", msg)
+        return TriggerResult(True, msg)
+
+    def _refuse(self, message: str) -> TriggerResult:
+        log.warning("%s", message)
+        return TriggerResult(False, message)
+
+    # ---- the task -----------------------------------------------------------------
+    def _run(self, start_q: np.ndarray):
+        out = ScanOutcome(start_q=start_q.tolist())
+        try:
+            yield from self._scan(start_q, out)
+        finally:
+            self.stage, self.index, self.total = ScanStage.IDLE, 0, 0
+            self.loop.stale_reported = False
+            self.last_outcome = out
+            log.info("scan finished: %d/%d objects NADIR, returned to start: %s%s",
+                     sum(p.nadir for p in out.probes), len(out.probes), out.returned_to_start,
+                     f" ({out.failure})" if out.failure else "")
+        return out
+
+    def _scan(self, start_q: np.ndarray, out: ScanOutcome):
+        # ROUGH: rough centres, fixed order (by tid: the order the objects were first seen).
+        rough = [np.asarray(t.smoothed.center, dtype=float).copy() for t in self.loop.tracks()]
+        out.probes = [ProbeResult(i + 1, c.tolist()) for i, c in enumerate(rough)]
+        # Liveness, once, before the first motion: no motion and no RETURN when stale.
+        if self.loop.report_if_stale(self.rt.world.time_s):
+            out.failure = "perception stale before the first motion: no motion made"
+            return
+        scene = snapshot(self.loop, self.loop.latest.q if self.loop.latest else None)
+        self.motion.set_scene(scene.environment_points, scene.boxes, scene.capture_q)
+        plane = self.loop.plane
+        ready = _core.Pose.from_matrix(self.loop.ready_camera_pose)
+        cam_in_flange = _core.Pose.from_matrix(self.camera_in_flange)
+        moved = False
+        try:
+            for i, (centre, probe) in enumerate(zip(rough, out.probes), start=1):
+                self.stage, self.index = ScanStage.PROBING, i
+                target = _core.camera_above_flange_target(centre, plane, ready, cam_in_flange)
+                try:
+                    moved = True
+                    yield from self.motion.to_pose(target.matrix(), frame="flange", kind="scan_probe")
+                except GraspPipelineError as exc:
+                    probe.message = f"probe {i}/{len(rough)} failed to move: {exc}"
+                    out.failure = probe.message
+                    log.error("%s; remaining objects skipped", probe.message)
+                    self.motion.sync()
+                    break
+                yield from self._dwell(i, centre, probe)
+            else:
+                out.completed = True
+        finally:
+            if moved:
+                yield from self._return(start_q, out)
+
+    def _dwell(self, i: int, centre: np.ndarray, probe: ProbeResult):
+        world, cfg = self.rt.world, self.config
+        arrival_s = world.time_s
+        frames0 = self.loop.frames
+        t_end = arrival_s + cfg.dwell_timeout_s
+        while self.loop.frames - frames0 < cfg.dwell_frames:
+            if world.time_s >= t_end:
+                log.warning("probe %d: only %d of %d dwell frames within %.1f s; continuing", i,
+                            self.loop.frames - frames0, cfg.dwell_frames, cfg.dwell_timeout_s)
+                break
+            yield
+        t_end = world.time_s + cfg.dwell_timeout_s
+        while True:
+            track = self.loop.nearest_track(centre[:2], within_gate=True)
+            if (track is not None and track.quality == _core.ViewQuality.NADIR
+                    and track.last_seen_s >= arrival_s):
+                probe.tid, probe.nadir = track.tid, True
+                probe.message = f"#{track.tid} nadir"
+                break
+            if world.time_s >= t_end:
+                probe.message = (f"probe {i}: no NADIR estimate of the object within "
+                                 f"{cfg.dwell_timeout_s:.1f} s; it keeps its previous quality")
+                log.warning("%s", probe.message)
+                break
+            yield
+        latest = self.loop.latest
+        if latest is not None:
+            raw = latest.result.raw
+            probe.view_angles_deg = {int(t): float(v.angle_deg) for t, v in zip(raw.tids, raw.views)}
+            log.info("probe %d/%d: %s", i, self.total, ", ".join(
+                f"#{t} {v.quality.name.lower()} ({v.angle_deg:.1f} deg)" for t, v in zip(raw.tids, raw.views)))
+
+    def _return(self, start_q: np.ndarray, out: ScanOutcome):
+        if not self.config.return_to_start:
+            log.warning("return_to_start is false: the arm stays at the last probe")
+            return
+        self.stage = ScanStage.RETURN
+        try:
+            yield from self.motion.to_joints(start_q, kind="scan_return")
+        except GraspPipelineError as exc:
+            out.failure = (out.failure + " | " if out.failure else "") + f"return to start failed: {exc}"
+            log.error("return to start failed: %s", exc)
+            self.motion.sync()
+        world, cfg = self.rt.world, self.config
+        t_end = world.time_s + cfg.return_settle_timeout_s
+        while (float(np.max(np.abs(np.asarray(world.q) - start_q))) > cfg.return_settle_tol_rad
+               and world.time_s < t_end):
+            yield
+        err = float(np.max(np.abs(np.asarray(world.q) - start_q)))
+        out.joint_error_rad = err
+        out.returned_to_start = err <= 1e-3

@@ -1,0 +1,105 @@
+"""Ground-truth scoring of a run — **evaluation code only** (reports, benchmarks, tests).
+
+This is the one orchestration module that reads the simulator's ground truth; the
+perception loop, the scan, selection and the grasp action never import it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+
+from ..sim.ground_truth import object_truths
+
+#: yaw symmetry of each object kind [deg] (None: round, yaw undefined)
+YAW_SYMMETRY_DEG = {"cube": 90.0, "cuboid": 180.0, "cylinder": None}
+
+
+def _yaw_error_deg(est_closing_xy: np.ndarray, truth) -> Optional[float]:
+    sym = YAW_SYMMETRY_DEG.get(truth.kind)
+    if sym is None:
+        return None
+    R = truth.T_world_object[:3, :3]
+    sx, sy = truth.size_m[0], truth.size_m[1]
+    axis = R[:, 0] if sx <= sy else R[:, 1]  # the narrow side is the closing direction
+    a_true = math.degrees(math.atan2(axis[1], axis[0]))
+    a_est = math.degrees(math.atan2(est_closing_xy[1], est_closing_xy[0]))
+    d = (a_est - a_true) % sym
+    return float(min(d, sym - d))
+
+
+def score_estimates(world, tracks) -> list[dict]:
+    """Per true object: the nearest track's errors (centre, width, height, yaw mod symmetry)."""
+    out = []
+    truths = object_truths(world)
+    for t in truths:
+        row = {"object": t.name, "kind": t.kind, "true_size_m": list(t.size_m), "tid": None}
+        if tracks:
+            d = [np.linalg.norm(np.asarray(tr.smoothed.center)[:2] - t.position_m[:2]) for tr in tracks]
+            k = int(np.argmin(d))
+            if d[k] < 0.5 * min(t.size_m[0], t.size_m[1]) + 0.02:
+                e = tracks[k].smoothed
+                true_w = min(t.size_m[0], t.size_m[1])
+                row.update({
+                    "tid": int(tracks[k].tid),
+                    "quality": tracks[k].quality.name,
+                    "center_err_mm": float(np.linalg.norm(np.asarray(e.center) - t.position_m) * 1e3),
+                    "width_err_mm": float(abs(e.width_m - true_w) * 1e3),
+                    "height_err_mm": float(abs(e.height_m - t.size_m[2]) * 1e3),
+                    "yaw_err_deg": _yaw_error_deg(np.asarray(e.R_box)[:2, 0], t),
+                    "pca_tilt_deg": float(e.pca_tilt_deg),
+                })
+        out.append(row)
+    return out
+
+
+def nearest_truth_name(world, xy) -> Optional[str]:
+    truths = object_truths(world)
+    if not truths:
+        return None
+    d = [np.linalg.norm(t.position_m[:2] - np.asarray(xy)[:2]) for t in truths]
+    return truths[int(np.argmin(d))].name
+
+
+@dataclass
+class LiftRecorder:
+    """Follows one object's true height during a pick (a runtime observer)."""
+
+    name: str
+    z0: float = math.nan
+    samples: list = field(default_factory=list)  # (t, z)
+    released_at: Optional[float] = None
+
+    def __call__(self, world) -> None:
+        for t in object_truths(world):
+            if t.name == self.name:
+                z = float(t.position_m[2])
+                if math.isnan(self.z0):
+                    self.z0 = z
+                self.samples.append((float(world.time_s), z))
+                return
+
+    def result(self, min_lift_m: float) -> dict:
+        """``lift_m``: highest rise before release; ``held_s``: time at ≥ min_lift_m."""
+        if not self.samples:
+            return {"lift_m": 0.0, "held_s": 0.0}
+        arr = np.asarray(self.samples)
+        if self.released_at is not None:
+            arr = arr[arr[:, 0] <= self.released_at]
+        if len(arr) < 2:
+            return {"lift_m": 0.0, "held_s": 0.0}
+        rise = arr[:, 1] - self.z0
+        dt = np.diff(arr[:, 0], append=arr[-1, 0])
+        return {"lift_m": float(rise.max()), "held_s": float(dt[rise >= min_lift_m].sum())}
+
+
+def in_tray(world, name: str, tray_center: np.ndarray, half_size_m: float, tray_floor_z_m: float) -> bool:
+    for t in object_truths(world):
+        if t.name == name:
+            p = t.position_m
+            return bool(abs(p[0] - tray_center[0]) <= half_size_m and abs(p[1] - tray_center[1]) <= half_size_m
+                        and p[2] >= tray_floor_z_m - 0.01 and p[2] <= tray_floor_z_m + 0.15)
+    return False
