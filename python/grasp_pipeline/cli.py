@@ -1,7 +1,8 @@
 """The ``grasp-pipeline`` command line.
 
 Sub-commands:
-  demo                      the default headless demo (see README)
+  demo                      the default headless demo: ``run`` on the reference scene
+  run                       rough view, active scan, pick (and place) the selected objects
   bench perception|sim|planning
                             benchmarks that print figures and write JSON
   perceive FILE             one point cloud from disk (.pcd/.ply/.npy) through the
@@ -71,12 +72,35 @@ def _add_perceive(sub: argparse._SubParsersAction) -> None:
                    help="override one parameter (repeatable), e.g. --set cluster_eps=0.02")
 
 
+def _add_run(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "run", help="scan the table, then pick the selected objects into the tray",
+        description="Headless run in MuJoCo: rough view from the start pose, active scan "
+                    "(camera above each object), then pick each selected object (default: all, "
+                    "nearest first) and place it in the tray. Writes a report JSON, PNG "
+                    "snapshots and an MP4.")
+    p.add_argument("--scene", choices=["reference", "random"], default="reference")
+    p.add_argument("--seed", type=int, default=0, help="random scene seed")
+    p.add_argument("--select", nargs="+", type=float, metavar="X Y", default=None,
+                   help="world (x, y) of the objects to pick, as pairs: --select 0.56 -0.03 0.52 0.09")
+    p.add_argument("--out", type=Path, default=Path("out/run"), help="folder for images and video")
+    p.add_argument("--json", type=Path, default=None, help="report path (default OUT/report.json)")
+    p.add_argument("--no-video", action="store_true", help="skip the MP4")
+    p.add_argument("--no-scan", action="store_true", help="pick from the rough (oblique) view")
+    p.add_argument("--config", default=None, metavar="FILE",
+                   help="YAML with one section per parameter set (scene_filter, obb, camera, "
+                        "sim, motion, scan, grasp)")
+    p.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
+                   help="override one parameter (repeatable), e.g. --set grasp.lift_height_m=0.12")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="grasp-pipeline", description=__doc__.splitlines()[0])
     parser.add_argument("--log-level", default="INFO",
                         choices=["DEBUG", "INFO", "WARNING", "ERROR"], help="logging level")
     sub = parser.add_subparsers(dest="command", required=True)
-    sub.add_parser("demo", help="run the default headless demo")
+    sub.add_parser("demo", help="run the default headless demo (reference scene, out/demo)")
+    _add_run(sub)
     _add_bench(sub)
     _add_perceive(sub)
     return parser
@@ -91,6 +115,10 @@ def _run(args: argparse.Namespace) -> int:
         from .demo import run_demo
 
         return run_demo()
+    if args.command == "run":
+        from .orchestration.summary import run_command
+
+        return run_command(args)
     if args.command == "bench":
         if args.bench == "perception":
             from .bench.perception_bench import run_perception_benchmark

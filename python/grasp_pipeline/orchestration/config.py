@@ -25,11 +25,13 @@ class ScanConfig:
     stale_timeout_s: float = 2.0
     return_to_start: bool = True
     select_verify_frames: int = 3
+    select_max_distance_m: float = 0.10
     return_settle_tol_rad: float = 1e-4
     return_settle_timeout_s: float = 1.0
 
     def validate(self) -> None:
         _positive(self, "dwell_timeout_s", "stale_timeout_s", "return_settle_tol_rad",
+                  "select_max_distance_m",
                   "return_settle_timeout_s")
         _positive(self, "dwell_frames", "select_verify_frames", allow_zero=True)
 
@@ -39,6 +41,7 @@ class GraspConfig:
     """SPEC 7 grasp action and the PLACE stage (ours)."""
 
     pre_grasp_distance_m: float = 0.12
+    approach_backoffs_m: tuple[float, ...] = (0.0, 0.008, 0.015)
     open_margin_m: float = 0.02
     close_effort_N: float = 40.0
     close_command_fraction: float = 0.5
@@ -58,7 +61,11 @@ class GraspConfig:
 
     def validate(self) -> None:
         _positive(self, *(f.name for f in fields(self)
-                          if f.name not in ("close_squeeze_m", "place_slot_offset_m")))
+                          if f.name not in ("close_squeeze_m", "place_slot_offset_m",
+                                            "approach_backoffs_m")))
+        if not self.approach_backoffs_m or any(not 0 <= b <= 0.05 for b in self.approach_backoffs_m):
+            raise ConfigError("GraspConfig.approach_backoffs_m: expected a non-empty list of "
+                              "back-offs in [0, 0.05] m")
         _positive(self, "close_squeeze_m", "place_slot_offset_m", allow_zero=True)
         if not 0 < self.close_command_fraction <= 1:
             raise ConfigError("GraspConfig.close_command_fraction: expected (0, 1]")

@@ -8,7 +8,10 @@ geometric one.
 
 - PRE_GRASP: open to width + margin, move (planned around the perceived scene, the target
   being no obstacle) to ``pre_grasp_distance_m`` back along the approach axis.
-- APPROACH: straight line to the contact point; only the fingers may touch objects.
+- APPROACH: straight line to the contact point; only the fingers may touch objects. When a
+  candidate cannot be planned (a neighbour under the hand), the same grasp a little higher
+  (``approach_backoffs_m``, still within the finger pads' reach), then the alternatives
+  (e.g. a square's other closing direction) are tried — all planned before any motion.
 - CLOSE: command a gap of ``2 · close_command_fraction · width − close_squeeze_m`` with the
   effort limit; success by *stalling*: finger speed < ``stall_speed_mps`` for
   ``stall_time_s`` (the commanded gap is narrower than the object, so waiting for it would
@@ -33,6 +36,7 @@ import numpy as np
 
 from .. import _core
 from ..exceptions import GraspPipelineError
+from ..motion.exceptions import MotionError
 from ..sim.robot_model import GRIPPER_MAX_WIDTH_M
 from .config import GraspConfig
 from .runtime import Runtime, Task, wait_s
@@ -107,8 +111,12 @@ class GraspAction:
         self._target_tid: Optional[int] = None
 
     # ---- goal -------------------------------------------------------------------
-    def start(self, grasp: Optional["_core.BestGrasp"] = None, place: bool = True):
-        """Start a grasp of ``grasp`` (default: the latest published best grasp)."""
+    def start(self, grasp: Optional["_core.BestGrasp"] = None, place: bool = True,
+              alternatives=()):
+        """Start a grasp of ``grasp`` (default: the latest published best grasp).
+
+        ``alternatives``: further grasps of the same object, tried in order when the previous
+        one cannot be planned (e.g. a square's other closing direction)."""
         if self.task is not None and not self.task.done:
             return False, f"grasp refused: a grasp is running (stage {self.stage.value})"
         if grasp is None:
@@ -117,7 +125,7 @@ class GraspAction:
             grasp = self.loop.selector.best_grasp
         if grasp is None:
             return False, "no best grasp yet"
-        self.task = self.rt.start("grasp", self._run(grasp, place))
+        self.task = self.rt.start("grasp", self._run(grasp, place, tuple(alternatives)))
         return True, "grasp started"
 
     # ---- the task ---------------------------------------------------------------
@@ -126,11 +134,11 @@ class GraspAction:
         out.stages.append((stage.value, round(float(self.rt.world.time_s), 4)))
         log.info("grasp stage %s", stage.value)
 
-    def _run(self, grasp, place: bool):
+    def _run(self, grasp, place: bool, alternatives=()):
         out = GraspOutcome(width_m=float(grasp.width_m))
         self._held = set()
         try:
-            yield from self._grasp(grasp, out)
+            yield from self._grasp(grasp, out, alternatives)
             out.success = True
             self._enter(out, GraspStage.DONE)
             if place and self.tray_center is not None:
@@ -153,33 +161,58 @@ class GraspAction:
     def _holding(self, robot_geom: str, other: str) -> bool:
         return FINGER_GEOM_MARK in robot_geom and other in self._held
 
-    def _grasp(self, grasp, out: GraspOutcome):
+    def _opening(self, grasp) -> float:
+        return min(GRIPPER_MAX_WIDTH_M, float(grasp.width_m) + self.config.open_margin_m)
+
+    def _plan_approach(self, candidates):
+        """Plan PRE_GRASP and APPROACH (without moving) for the first candidate grasp that
+        works; returns (grasp, pre-grasp trajectory, approach trajectory, TCP grasp pose)."""
+        world, motion = self.rt.world, self.motion
+        errors = []
+        tries = [(g, b) for g in candidates for b in self.config.approach_backoffs_m]
+        for k, (g, backoff) in enumerate(tries):
+            T_grasp = tcp_pose_from_grasp(g, world.tcp_pose())
+            T_grasp[:3, 3] -= backoff * np.asarray(g.R)[:, 0]
+            T_pre = T_grasp.copy()
+            T_pre[:3, 3] -= self.config.pre_grasp_distance_m * np.asarray(g.R)[:, 0]
+            motion.planner.set_finger_opening(max(self._opening(g), world.finger_gap_m))
+            try:
+                traj_pre = motion.plan_pose(T_pre)
+                traj_app = motion.plan_line(T_grasp, q_from=traj_pre.q[-1], allow_target_contact=True)
+            except MotionError as exc:
+                errors.append(f"grasp {k + 1} (backoff {backoff * 1e3:.0f} mm): {exc}")
+                log.info("grasp try %d of %d not plannable: %s", k + 1, len(tries), exc)
+                continue
+            if k:
+                log.info("using grasp try %d: candidate %d, %.0f mm above the contact point",
+                         k + 1, candidates.index(g) + 1, backoff * 1e3)
+            return g, traj_pre, traj_app, T_grasp
+        raise StageFailure("no grasp candidate can be reached: " + " | ".join(errors))
+
+    def _grasp(self, grasp, out: GraspOutcome, alternatives=()):
         cfg, world, motion = self.config, self.rt.world, self.motion
-        approach = np.asarray(grasp.R)[:, 0]
+        candidates = [grasp, *alternatives]
         # Perceived scene at the moment of the grasp; the target box is no obstacle.
         scene = snapshot(self.loop, self.loop.latest.q if self.loop.latest else None,
                          exclude_tids=self.picked_tids)
         target_tid = None
-        if scene.boxes:
+        if scene.boxes:  # the target is the tracked object under the grasp
             d = [np.linalg.norm(b.center[:2] - np.asarray(grasp.position)[:2]) for b in scene.boxes]
             target_tid = scene.tids[int(np.argmin(d))]
         motion.set_scene(scene.environment_points, scene.boxes, scene.capture_q,
                          target_index=scene.index_of(target_tid) if target_tid is not None else None)
         self._target_tid = target_tid
-        T_grasp = tcp_pose_from_grasp(grasp, world.tcp_pose())
-        T_pre = T_grasp.copy()
-        T_pre[:3, 3] -= cfg.pre_grasp_distance_m * approach
-
         self._enter(out, GraspStage.PRE_GRASP)
-        opening = min(GRIPPER_MAX_WIDTH_M, float(grasp.width_m) + cfg.open_margin_m)
+        grasp, traj_pre, traj_app, T_grasp = self._plan_approach(candidates)
+        approach = np.asarray(grasp.R)[:, 0]
+        out.width_m = float(grasp.width_m)
+        opening = self._opening(grasp)
         world.set_gripper(opening, effort_N=cfg.close_effort_N)
-        self.motion.planner.set_finger_opening(max(opening, world.finger_gap_m))
-        yield from motion.to_pose(T_pre, frame="tcp", kind="pre_grasp")
+        yield from motion.execute("pre_grasp", traj_pre)
         yield from self._wait_gripper(opening)
 
         self._enter(out, GraspStage.APPROACH)
-        yield from motion.line(T_grasp, kind="approach", allow_target_contact=True,
-                               contact_ok=self._finger_on_object)
+        yield from motion.execute("approach", traj_app, contact_ok=self._finger_on_object)
 
         self._enter(out, GraspStage.CLOSE)
         out.stall_gap_m = yield from self._close(float(grasp.width_m))

@@ -66,6 +66,21 @@ class MotionClient:
         self.planner.set_target(target_index)
 
     # ---- motions (task generators returning an ExecutionReport) -------------------
+    def plan_pose(self, T_world: np.ndarray, q_from: Optional[np.ndarray] = None,
+                  frame: str = "tcp") -> JointTrajectory:
+        """Plan (without moving) to a pose, from ``q_from`` (default: the commanded joints)."""
+        return self.planner.plan_to_pose(self.q_cmd if q_from is None else q_from, T_world, frame)
+
+    def plan_line(self, T_world: np.ndarray, q_from: Optional[np.ndarray] = None, frame: str = "tcp",
+                  allow_target_contact: bool = False) -> JointTrajectory:
+        """Plan (without moving) a straight TCP line from ``q_from``."""
+        return self.planner.plan_cartesian(self.q_cmd if q_from is None else q_from, T_world, frame,
+                                           allow_target_contact)
+
+    def execute(self, kind: str, traj: JointTrajectory, contact_ok=None):
+        """Task generator: run a planned trajectory (it must start at the commanded joints)."""
+        return (yield from self._execute(kind, traj, contact_ok))
+
     def _execute(self, kind: str, traj: JointTrajectory, contact_ok=None):
         self.plans.append({"kind": kind, "method": traj.path.method if traj.path else "",
                            "planning_ms": traj.path.planning_ms if traj.path else 0.0,

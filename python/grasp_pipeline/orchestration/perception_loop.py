@@ -36,13 +36,17 @@ class FrameInfo:
 class PerceptionLoop:
     """Frames in, tracks and best grasps out (one instance per run)."""
 
-    def __init__(self, session: PerceptionSession, scan_config: ScanConfig | None = None) -> None:
+    def __init__(self, session: PerceptionSession, scan_config: ScanConfig | None = None,
+                 ready_camera_pose: Optional[np.ndarray] = None) -> None:
         self.session = session
         self.config = scan_config or ScanConfig()
-        self.selector = Selector()
+        self.selector = Selector(fallback_limit_m=self.config.select_max_distance_m)
         self.latest: Optional[FrameInfo] = None
         self.frames = 0
-        self.ready_camera_pose: Optional[np.ndarray] = None  # recorded once, at start-up
+        # The camera pose of the start-up ("ready") pose, recorded once: from the robot's
+        # kinematics at start-up when given, else from the first frame's capture pose.
+        self.ready_camera_pose: Optional[np.ndarray] = (
+            None if ready_camera_pose is None else np.array(ready_camera_pose, dtype=float))
         self._last_labels = ""
         self.stale_reported = False
 

@@ -11,11 +11,13 @@ from __future__ import annotations
 import json
 import logging
 import time
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Optional, Sequence
 
 import numpy as np
 
+from ..exceptions import InputError
 from ..motion.motion_planner import MotionPlanner
 from ..perception import PerceptionSession
 from ..report.snapshot import render_snapshot
@@ -29,6 +31,7 @@ from .perception_loop import PerceptionLoop
 from .recorder import RunRecorder
 from .runtime import Runtime
 from .scan import ActiveScan
+from .selection import perpendicular_grasp
 from . import scoring
 
 log = logging.getLogger("grasp_pipeline.run")
@@ -76,6 +79,50 @@ def _default_targets(loop: PerceptionLoop) -> list[tuple[float, float]]:
     return [(float(c[0]), float(c[1])) for c in cs]
 
 
+@dataclass
+class System:
+    """Every running part of one headless session."""
+
+    world: SimWorld
+    loop: PerceptionLoop
+    rt: Runtime
+    motion: MotionClient
+    scanner: ActiveScan
+    action: GraspAction
+    tray: np.ndarray
+    start_q: np.ndarray
+
+    def close(self) -> None:
+        self.world.close()
+
+
+def build_system(spec, settings: Settings) -> System:
+    """World + camera → perception loop; motion client; scan; grasp action (not started)."""
+    world = SimWorld(spec, settings.sim, settings.camera)
+    try:
+        session = PerceptionSession(settings.scene_filter, settings.obb)
+        loop = PerceptionLoop(session, settings.scan, ready_camera_pose=world.camera_pose())
+        world.add_frame_listener(lambda f: loop.on_frame(f, world.q))
+        rt = Runtime(world)
+        motion = MotionClient(world, MotionPlanner(settings.motion))
+        start_q = np.asarray(world.q, float).copy()
+        tray = world.data.site(TRAY_SITE).xpos.copy()
+        scanner = ActiveScan(rt, loop, motion, flange_T_camera(world.model), settings.scan)
+        action = GraspAction(rt, loop, motion, settings.grasp, tray_center=tray, home_q=start_q)
+    except BaseException:
+        world.close()
+        raise
+    return System(world, loop, rt, motion, scanner, action, tray, start_q)
+
+
+def make_scene(scene: str, seed: int, settings: Settings):
+    if scene == "reference":
+        return reference_scene(settings.sim)
+    if scene == "random":
+        return random_scene(seed, config=settings.sim)
+    raise InputError(f"scene must be 'reference' or 'random', got {scene!r}")
+
+
 def run_pipeline(scene: str = "reference", seed: int = 0, select: Optional[Sequence[tuple[float, float]]] = None,
                  out_dir: str | Path = "out", json_path: str | Path | None = None,
                  settings: Optional[Settings] = None, video: bool = True, place: bool = True,
@@ -85,25 +132,18 @@ def run_pipeline(scene: str = "reference", seed: int = 0, select: Optional[Seque
     settings = settings or load_settings(SECTIONS)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    spec = reference_scene(settings.sim) if scene == "reference" else random_scene(seed, config=settings.sim)
+    spec = make_scene(scene, seed, settings)
     timings: dict[str, float] = {}
     report: dict = {"scene": {"name": spec.name, "seed": seed, "objects": len(spec.objects)},
                     "settings": settings.as_dict()}
-    world = SimWorld(spec, settings.sim, settings.camera)
+    system = build_system(spec, settings)
+    world, loop, rt = system.world, system.loop, system.rt
     recorder = None
     try:
-        session = PerceptionSession(settings.scene_filter, settings.obb)
-        loop = PerceptionLoop(session, settings.scan)
-        world.add_frame_listener(lambda f: loop.on_frame(f, world.q))
-        rt = Runtime(world)
         if video:
             recorder = RunRecorder(world, out_dir / "run.mp4")
             rt.observers.append(recorder)
-        motion = MotionClient(world, MotionPlanner(settings.motion))
-        start_q = np.asarray(world.q, float).copy()
-        tray = world.data.site(TRAY_SITE).xpos.copy()
-        scanner = ActiveScan(rt, loop, motion, flange_T_camera(world.model), settings.scan)
-        action = GraspAction(rt, loop, motion, settings.grasp, tray_center=tray, home_q=start_q)
+        scanner, action, tray = system.scanner, system.action, system.tray
 
         # -- rough view -------------------------------------------------------------
         t0 = time.perf_counter()
@@ -142,11 +182,11 @@ def run_pipeline(scene: str = "reference", seed: int = 0, select: Optional[Seque
         targets = list(select) if select else _default_targets(loop)
         report["picks"] = [_pick(rt, loop, action, world, xy, settings, tray, place) for xy in targets]
         timings["picks_s"] = time.perf_counter() - t0
-        report["motion_plans"] = motion.plans
+        report["motion_plans"] = system.motion.plans
     finally:
         if recorder is not None:
             report["video"] = recorder.close()
-        world.close()
+        system.close()
         _finish(report, json_path, wall0, timings)
     return report
 
@@ -170,8 +210,11 @@ def _pick(rt: Runtime, loop: PerceptionLoop, action: GraspAction, world, xy, set
     lift = scoring.LiftRecorder(name) if name else None
     if lift:
         rt.observers.append(lift)
+    track = next((t for t in loop.tracks() if t.tid == sel.tid), None)
+    alt = None if track is None else perpendicular_grasp(
+        track, loop.plane, settings.obb.width_tol_m, settings.obb.gripper_open)
     try:
-        ok, msg = action.start(place=place)
+        ok, msg = action.start(place=place, alternatives=() if alt is None else (alt,))
         if not ok:
             row.update(failed_stage="GRASP", message=msg)
             return row

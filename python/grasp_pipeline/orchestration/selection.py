@@ -54,14 +54,19 @@ def _nearest(tracks: Sequence["_core.Track"], x: float, y: float):
 
 
 def check_selection(x: float, y: float, tracks: Sequence["_core.Track"], gate_m: Optional[float],
-                    plane: Optional["_core.Plane"]) -> _Check:
-    """The checks of SPEC 5 for a point (x, y), in order."""
+                    plane: Optional["_core.Plane"], fallback_limit_m: Optional[float] = None) -> _Check:
+    """The checks of SPEC 5 for a point (x, y), in order.
+
+    The distance limit is 2 × gate; when the gate is undefined (fewer than two objects in
+    the last frame) SPEC sets no limit — here ``fallback_limit_m`` applies instead (ours:
+    a click far from the only object must not select it)."""
     if not tracks or plane is None:
         return _Check(None, None, "nothing seen yet", "nothing")
     track, dist = _nearest(tracks, x, y)
-    if gate_m is not None and dist > 2.0 * gate_m:
+    limit = 2.0 * gate_m if gate_m is not None else fallback_limit_m
+    if limit is not None and dist > limit:
         return _Check(None, track, f"no object near ({x:.3f}, {y:.3f}): {dist * 1e3:.0f} mm away, "
-                                   f"limit {2.0 * gate_m * 1e3:.0f} mm", "far")
+                                   f"limit {limit * 1e3:.0f} mm", "far")
     est = track.smoothed
     if not est.grasp_ok:
         notes = [n for n in est.notes]
@@ -73,10 +78,32 @@ def check_selection(x: float, y: float, tracks: Sequence["_core.Track"], gate_m:
     return _Check(grasp, track, "")
 
 
+def perpendicular_grasp(track, plane, width_tol_m: float, gripper_open_m: float):
+    """The 90°-rotated top-down grasp of a (near-)square footprint, or None.
+
+    A square has two equivalent closing directions (SPEC 2.3); when the preferred one cannot
+    be planned (a neighbour blocks the hand), the other is as good a grasp. Offered only when
+    ``perp_width ≤ width + width_tol_m`` and it fits the gripper."""
+    e = track.smoothed
+    if e.perp_width_m > e.width_m + width_tol_m or e.perp_width_m > gripper_open_m:
+        return None
+    Rb = np.asarray(e.R_box)
+    n = np.asarray(plane.n)
+    R_rot = np.column_stack([Rb[:, 1], -Rb[:, 0], Rb[:, 2]])
+    R = _core.top_down_rotation(R_rot, n)
+    if R is None:
+        return None
+    R = np.asarray(R).copy()
+    R[:, 0] *= -1.0
+    R[:, 2] *= -1.0
+    return _core.BestGrasp(R, np.asarray(e.center), float(e.perp_width_m))
+
+
 @dataclass
 class Selector:
     """Holds the anchor and publishes best grasps (SPEC 5)."""
 
+    fallback_limit_m: Optional[float] = None  # distance limit while the gate is undefined
     anchor: Optional[tuple[float, float]] = None
     best_grasp: Optional["_core.BestGrasp"] = None
     best_grasp_time_s: Optional[float] = None
@@ -88,7 +115,7 @@ class Selector:
         """Anchor a selection at (x, y) [m, world]; see the module doc for refusals."""
         if not (np.isfinite(x) and np.isfinite(y)):
             return SelectResult(False, f"select: x and y must be finite numbers, got ({x}, {y})")
-        chk = check_selection(x, y, tracks, gate_m, plane)
+        chk = check_selection(x, y, tracks, gate_m, plane, self.fallback_limit_m)
         if chk.reason:
             if chk.clears:
                 self.clear()
@@ -115,7 +142,8 @@ class Selector:
         """Re-resolve the anchor; publish (store) the best grasp if it passes the checks."""
         if self.anchor is None:
             return None
-        chk = check_selection(self.anchor[0], self.anchor[1], tracks, gate_m, plane)
+        chk = check_selection(self.anchor[0], self.anchor[1], tracks, gate_m, plane,
+                              self.fallback_limit_m)
         if chk.reason:
             if chk.kind not in self._warned:
                 self._warned.add(chk.kind)
