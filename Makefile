@@ -4,6 +4,10 @@
 # skips what is present.
 
 SHELL := /bin/bash
+.SHELLFLAGS := -o pipefail -c
+# pip prints a warning per missing local index folder on some machines; keep the output readable.
+# (the recipe fails when pip fails: PIPESTATUS[0] is pip's exit code)
+QUIET_PIP := 2>&1 | grep -v "^WARNING: Location"; test $${PIPESTATUS[0]} -eq 0
 PYTHON ?= python3
 VENV := .venv
 PY := $(VENV)/bin/python
@@ -12,8 +16,8 @@ GTEST_BUILD := build/gtest
 JOBS ?= 2
 export MUJOCO_GL ?= egl
 
-APT_PACKAGES := build-essential cmake libpcl-dev libeigen3-dev libgtest-dev \
-	libegl1 libegl-mesa0 libgl1-mesa-dri libosmesa6 ffmpeg
+APT_PACKAGES := build-essential cmake python3-dev python3-venv libpcl-dev libeigen3-dev \
+	libgtest-dev libegl1 libegl-mesa0 libgl1-mesa-dri libosmesa6
 
 SOURCES := $(shell find cpp python sim config -type f -not -name '*.pyc' 2>/dev/null) \
 	CMakeLists.txt pyproject.toml
@@ -37,11 +41,11 @@ system-deps:
 
 $(VENV)/bin/python:
 	$(PYTHON) -m venv $(VENV)
-	$(PIP) install -q --upgrade pip
+	$(PIP) install -q --upgrade pip $(QUIET_PIP)
 
 $(VENV)/.installed: $(VENV)/bin/python $(SOURCES)
-	@rm -f python/grasp_pipeline/_core*.so  # a dev build (scripts/dev_build_core.sh) must not ship
-	$(PIP) install -q ".[test]"
+	@rm -f python/grasp_pipeline/_*.so  # a dev build (scripts/dev_build_core.sh) must not ship
+	$(PIP) install -q ".[test]" $(QUIET_PIP)
 	@touch $@
 
 gtest: system-deps
@@ -53,7 +57,7 @@ pytest: setup
 	$(PY) -m pytest -q tests/python
 
 bench: setup
-	$(PIP) install -q ".[test,bench]"
+	$(PIP) install -q ".[test,bench]" $(QUIET_PIP)
 	$(VENV)/bin/grasp-pipeline bench perception --frames 50 --json build/bench_perception.json
 
 clean:

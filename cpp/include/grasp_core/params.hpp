@@ -29,7 +29,7 @@ struct SceneFilterParams {
   double cluster_min_extent = 0.01;      ///< min AABB diagonal [m]
   double cluster_max_extent = 0.30;      ///< max AABB diagonal [m]; <= 0 disables
   double band = 0.01;                    ///< band above the plane [m]
-  double cluster_voxel_m = 0.003;        ///< (ours) voxel leaf for clustering speed-up [m]; 0 = exact per point
+  double cluster_voxel_m = 0.003;        ///< (ours) > 0: the fast grid clustering (same partition as PCL, grid cell min(this, eps/sqrt 3)); 0: per-point PCL clustering [m]
   std::uint64_t seed = 0;                ///< (ours) RNG seed: runs are reproducible
 
   /// Throws std::invalid_argument naming the offending parameter.

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import argparse
 import json
+from dataclasses import dataclass
 import logging
 import time
 from pathlib import Path
@@ -46,13 +47,38 @@ def _p90(x: list[float]) -> float:
     return float(np.percentile(x, 90)) if x else float("nan")
 
 
+@dataclass(frozen=True)
+class _Perceived:
+    environment_points: np.ndarray
+    object_boxes: list
+    capture_q: np.ndarray
+    T_world_camera: np.ndarray
+    plane: object
+
+
+def perceive_scene(world) -> _Perceived:
+    """The scene as the perception core sees it in one frame from the current pose."""
+    from ..motion.occupancy import OrientedBox
+    from ..perception import PerceptionSession
+
+    frame = world.capture()
+    session = PerceptionSession()
+    res = session.process(frame.points_world, frame.T_world_camera[:3, 3], frame.time_s)
+    if res.table is None:
+        raise RuntimeError("perception found no table plane from the start pose")
+    boxes = [OrientedBox(np.asarray(e.center), np.asarray(e.R_box), np.asarray(e.extents))
+             for e in res.estimates]
+    return _Perceived(np.asarray(res.environment_points(), dtype=float), boxes,
+                      np.asarray(world.q, dtype=float).copy(), frame.T_world_camera.copy(), res.table)
+
+
 def run_planning_benchmark(scenes: int, seed: int, json_path: str | Path | None) -> dict:
     """Run the benchmark on ``scenes`` random scenes starting at ``seed``; write JSON."""
     from ..motion.executor import TrajectoryExecutor
     from ..motion.exceptions import ExecutionError, MotionError
     from ..motion.grasp_poses import offset_along, top_down_grasp_tcp
     from ..motion.motion_planner import MotionPlanner
-    from ..motion.perceived_scene import camera_above_flange_pose, perceive_scene
+    from .. import _core
     from ..sim import robot_model as rm
     from ..sim.ground_truth import object_truths
     from ..sim.scenes import random_scene
@@ -118,7 +144,9 @@ def run_planning_benchmark(scenes: int, seed: int, json_path: str | Path | None)
             # --- scan: start -> above each object -> start
             mp.set_target(None)
             for i, box in enumerate(mp.boxes):
-                T_f = camera_above_flange_pose(box.center, n_up, perceived.T_world_camera, flange_T_cam)
+                T_f = _core.camera_above_flange_target(
+                    box.center, perceived.plane, _core.Pose.from_matrix(perceived.T_world_camera),
+                    _core.Pose.from_matrix(flange_T_cam)).matrix()
                 if not run("scan_probe", lambda T_f=T_f: mp.plan_path_to_pose(q_cmd[0], T_f, "flange")):
                     break
             back_to_start("scan_return")
@@ -201,7 +229,7 @@ def run_planning_benchmark(scenes: int, seed: int, json_path: str | Path | None)
         "failures": [r for r in records if not r["ok"]][:50],
         "wall_time_s": time.perf_counter() - t_wall,
         "planner": cfg.planner,
-        "perception": "development stand-in (perceive_scene)",
+        "perception": "C++ core: one frame from the start pose (scene filter + object estimates)",
     }
     if json_path is not None:
         p = Path(json_path)

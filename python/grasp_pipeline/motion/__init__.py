@@ -11,7 +11,7 @@ Pieces, as OMPL separates them (one concept per module):
 * :mod:`.cartesian` — :class:`CartesianPlanner` (straight approach / lift lines);
 * :mod:`.timing` — :class:`TrajectoryTimer` (TOPP-RA); :mod:`.trajectory` — result types;
 * :mod:`.executor` — :class:`TrajectoryExecutor` (runs in ``SimWorld``, monitors, stops safely);
-* :mod:`.perceived_scene` — :class:`PerceivedScene`, :func:`perceive_scene`, camera-above pose;
+* :mod:`.perceived_scene` — :class:`PerceivedScene` (what perception hands to planning);
 * :mod:`.grasp_poses` — top-down grasp / pre-grasp / lift TCP poses;
 * :mod:`.motion_planner` — :class:`MotionPlanner`, the facade the orchestrator uses.
 

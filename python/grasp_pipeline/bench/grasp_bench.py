@@ -1,0 +1,572 @@
+"""Grasp benchmark: the whole product (rough view → scan → pick every object into the tray) on
+N seeded random scenes, with ground-truth scoring.
+
+``grasp-pipeline bench grasp --scenes N --seed K --workers W --json PATH --out DIR``
+
+Each scene is exactly one ``run_pipeline(scene="random", seed=<scene seed>, video=False)``
+call. The scene seed is derived from ``K`` and the scene index by :func:`scene_seed`, so a
+single scene is reproduced with ``grasp-pipeline run --scene random --seed <scene seed>``.
+
+Processes: every scene runs in its **own** freshly spawned process (``multiprocessing``
+"spawn" start method — MuJoCo's EGL/OSMesa contexts must not be forked), at most ``W`` at a
+time. A fresh process per scene matters for determinism: OMPL's random generator is seeded
+once per process, so a worker that ran an earlier scene would plan the next one from a
+different random state, and the results would depend on the scheduling. Children inherit
+``MUJOCO_GL`` (the parent's choice, see :mod:`grasp_pipeline.sim.gl_backend`) and
+``PYTHONPATH``, and are limited to one thread each (``OMP_NUM_THREADS=1`` and the BLAS
+equivalents), so ``W`` workers use ``W`` cores. A scene that raises is recorded as a failed
+scene with its error; a child that dies (signal, segfault) or exceeds ``scene_timeout_s`` is
+recorded the same way, and the benchmark goes on.
+
+The result is deterministic for a seed as far as the product is (scenes sorted by index; the
+JSON is the same apart from the timing fields listed in :data:`TIMING_KEYS`). Aggregation
+(:func:`aggregate`) works on the per-scene records only and is a pure function.
+
+Scoring uses ground truth (the scene spec and ``report[...]["scores"]``): evaluation code only.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import math
+import os
+import re
+import sys
+import time
+import traceback
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Iterable, Optional
+
+log = logging.getLogger(__name__)
+
+#: Environment of the worker processes: one thread each (set before they import numpy).
+SINGLE_THREAD_ENV = {
+    "OMP_NUM_THREADS": "1",
+    "OPENBLAS_NUM_THREADS": "1",
+    "MKL_NUM_THREADS": "1",
+    "NUMEXPR_NUM_THREADS": "1",
+    "VECLIB_MAXIMUM_THREADS": "1",
+    "BLIS_NUM_THREADS": "1",
+}
+#: Wall-clock limit of one scene [s] (a hung scene is killed and recorded as failed).
+DEFAULT_SCENE_TIMEOUT_S = 1800.0
+#: Object kinds whose footprint defines a yaw (cylinders are round).
+YAW_KINDS = ("cube", "cuboid")
+#: Width bins [mm] for "success by size" (true narrow horizontal side).
+SIZE_BINS_MM = (30.0, 40.0, 50.0, 60.0, 70.0)
+#: Accuracy metrics: JSON name → key in a score row.
+ACCURACY_METRICS = {"center_mm": "center_err_mm", "width_mm": "width_err_mm",
+                    "height_mm": "height_err_mm", "yaw_deg": "yaw_err_deg",
+                    "pca_tilt_deg": "pca_tilt_deg"}
+#: Top-level JSON keys (and per-scene keys) that hold timings — the only fields allowed to
+#: differ between two runs with the same seed.
+TIMING_KEYS = ("wall_time_s", "scenes_per_minute", "time_per_scene_s", "time_per_object_s",
+               "time_per_stage_s", "timings", "wall_s")
+#: Pick stages in pipeline order (for tables and plots).
+STAGE_ORDER = ("SCENE", "PLANE", "DETECT", "NOT_ATTEMPTED", "SELECT", "GRASP", "PRE_GRASP",
+               "APPROACH", "CLOSE", "LIFT", "DONE", "PLACE", "VERIFY")
+
+
+# ------------------------------------------------------------------------------ seeds
+def scene_seed(seed: int, index: int) -> int:
+    """The random-scene seed of scene ``index`` of a benchmark with seed ``seed``.
+
+    Derived with numpy's ``SeedSequence`` (a stable, documented hash), so benchmarks with
+    different seeds draw independent scenes; a non-negative 31-bit integer.
+    """
+    import numpy as np
+
+    state = np.random.SeedSequence(entropy=int(seed), spawn_key=(int(index),)).generate_state(1, np.uint32)
+    return int(state[0] >> 1)
+
+
+# ------------------------------------------------------------------------------ reasons
+_STAGE_PREFIX = re.compile(r"^[A-Z_]+ failed:\s*")
+
+
+def reason_category(message: str, max_len: int = 60) -> str:
+    """A short category of a failure message: the text before the first number (and before
+    the first ``:``), with the ``STAGE failed:`` prefix removed.
+
+    ``"CLOSE failed: gripper fully closed (1.2 mm): missed the object"`` →
+    ``"gripper fully closed"``.
+    """
+    text = _STAGE_PREFIX.sub("", str(message or "").strip())
+    text = re.split(r"[0-9]", text, maxsplit=1)[0]
+    text = text.split(":", 1)[0].split(" | ", 1)[0]
+    text = re.sub(r"[\s(\[{,;.=#<>~+\-]+$", "", text).strip()
+    if len(text) > max_len:
+        text = text[:max_len].rstrip() + "…"
+    return text or "unspecified"
+
+
+def exception_category(exc_text: str) -> str:
+    """``"ValueError: bad thing 3"`` → ``"ValueError"``."""
+    head = str(exc_text or "").split(":", 1)[0].strip()
+    return head or "unspecified"
+
+
+# ------------------------------------------------------------------------------ one scene
+def _score_rows(section: Optional[dict]) -> list[dict]:
+    return [] if not section else list(section.get("scores") or [])
+
+
+def _score_fields(row: Optional[dict]) -> Optional[dict]:
+    """The error figures of one score row (None when the object had no track)."""
+    if not row or row.get("tid") is None:
+        return None
+    out = {"quality": row.get("quality"), "tid": row.get("tid")}
+    for key in ACCURACY_METRICS.values():
+        v = row.get(key)
+        out[key] = None if v is None else float(v)
+    return out
+
+
+def _nearest_object(objects: list[dict], xy) -> Optional[str]:
+    if not objects or xy is None:
+        return None
+    d = [math.hypot(o["position_m"][0] - xy[0], o["position_m"][1] - xy[1]) for o in objects]
+    return objects[min(range(len(d)), key=d.__getitem__)]["name"]
+
+
+def _pick_failure(p: dict) -> tuple[str, str]:
+    """(stage, message) of a pick row that did not put its object in the tray."""
+    if p.get("failed_stage"):
+        return str(p["failed_stage"]), str(p.get("message") or "")
+    if p.get("success") and not p.get("placed"):
+        return "VERIFY", "reported success but the object is not in the tray"
+    return "UNKNOWN", str(p.get("message") or "no success and no failed stage reported")
+
+
+def scene_record(index: int, seed: int, objects: list[dict], report: Optional[dict],
+                 error: Optional[str] = None, wall_s: Optional[float] = None) -> dict:
+    """The compact per-scene record: scene facts, per-object outcome and errors, picks.
+
+    ``objects``: the scene's true objects (name, kind, size_m, position_m) from the spec;
+    ``report``: what :func:`run_pipeline` returned (None when it raised); ``error``: the
+    exception text when it raised.
+    """
+    report = report or {}
+    timings = {k: float(v) for k, v in (report.get("timings") or {}).items()}
+    if wall_s is not None and "wall_s" not in timings:
+        timings["wall_s"] = float(wall_s)
+    rough = {r.get("object"): r for r in _score_rows(report.get("rough"))}
+    nadir = {r.get("object"): r for r in _score_rows(report.get("scan"))}
+    picks_in = list(report.get("picks") or [])
+
+    # Attribute every pick row to a true object: its own ground-truth name when it reached the
+    # grasp action, else the object nearest to its anchor (a selection that failed).
+    picks = []
+    for p in picks_in:
+        name = p.get("object") or _nearest_object(objects, p.get("anchor"))
+        ok = bool(p.get("success") and p.get("placed") and not p.get("failed_stage"))
+        row = {"object": name, "anchor": [round(float(x), 4) for x in p.get("anchor") or []],
+               "success": ok, "reported_success": bool(p.get("success")),
+               "placed": bool(p.get("placed")), "lift_mm": round(1e3 * float(p.get("lift_m") or 0.0), 2)}
+        if not ok:
+            stage, msg = _pick_failure(p)
+            row.update(stage=stage, reason=reason_category(msg), message=msg)
+        picks.append(row)
+
+    scan = report.get("scan") or {}
+    obj_rows = []
+    for o in objects:
+        name = o["name"]
+        mine = [p for p in picks if p["object"] == name]
+        nadir_row = _score_fields(nadir.get(name))
+        row = {"name": name, "kind": o["kind"],
+               "width_mm": round(1e3 * min(o["size_m"][0], o["size_m"][1]), 2),
+               "height_mm": round(1e3 * o["size_m"][2], 2),
+               "picked": any(p["success"] for p in mine), "attempts": len(mine),
+               "nadir": bool(nadir_row and nadir_row["quality"] == "NADIR"),
+               "rough_errors": _score_fields(rough.get(name)), "nadir_errors": nadir_row}
+        if not row["picked"]:
+            failed = [p for p in mine if not p["success"]]
+            if failed:
+                stage, reason, msg = failed[0]["stage"], failed[0]["reason"], failed[0]["message"]
+            elif error is not None:
+                stage, reason, msg = "SCENE", exception_category(error), error
+            elif report.get("error"):
+                stage, reason, msg = "PLANE", reason_category(report["error"]), report["error"]
+            elif name not in nadir and name not in rough:
+                stage, reason, msg = "NOT_ATTEMPTED", "no pick (run ended early)", "no pick"
+            elif (nadir.get(name) or rough.get(name) or {}).get("tid") is None:
+                stage, reason, msg = "DETECT", "not detected", "no track matched the object"
+            else:
+                stage, reason, msg = ("NOT_ATTEMPTED", "tracked but no pick aimed at it",
+                                      "a track matched the object but no pick was attributed to it")
+            row.update(stage=stage, reason=reason, message=msg)
+        obj_rows.append(row)
+
+    rec = {"index": index, "seed": seed, "objects": len(objects),
+           "picks": sum(r["picked"] for r in obj_rows), "error": error,
+           "run_error": report.get("error"),
+           "scan": {"completed": bool(scan.get("completed")), "failure": scan.get("failure") or "",
+                    "nadir": sum(r["nadir"] for r in obj_rows)} if scan else None,
+           "object_rows": obj_rows, "pick_rows": picks, "timings": timings}
+    return rec
+
+
+def _spec_objects(seed: int) -> list[dict]:
+    from ..sim.scenes import random_scene
+
+    spec = random_scene(seed)
+    return [{"name": o.name, "kind": o.kind, "size_m": [float(x) for x in o.size_m],
+             "position_m": [float(x) for x in o.position_m]} for o in spec.objects]
+
+
+def run_scene(index: int, seed: int, out_dir: str | Path) -> dict:
+    """One benchmark scene in this process: never raises (errors become the record)."""
+    t0 = time.perf_counter()
+    objects: list[dict] = []
+    try:
+        objects = _spec_objects(seed)
+        from ..orchestration.run import run_pipeline
+
+        out = Path(out_dir)
+        report = run_pipeline(scene="random", seed=seed, out_dir=out, json_path=out / "report.json",
+                              video=False)
+        return scene_record(index, seed, objects, report)
+    except Exception as exc:  # any failure of the scene is a result, not a crash
+        text = f"{type(exc).__name__}: {exc}"
+        log.error("scene %d (seed %d) raised %s\n%s", index, seed, text, traceback.format_exc())
+        return scene_record(index, seed, objects, None, error=text, wall_s=time.perf_counter() - t0)
+
+
+def _child_main(conn, index: int, seed: int, out_dir: str, log_level: int) -> None:
+    """Entry point of a spawned scene process: run the scene, send the record, exit."""
+    logging.basicConfig(level=log_level, format=f"%(asctime)s %(levelname)s [scene {index}] %(name)s: %(message)s")
+    try:
+        rec = run_scene(index, seed, out_dir)
+    except BaseException as exc:  # (run_scene catches Exception; this is e.g. SystemExit)
+        rec = scene_record(index, seed, [], None, error=f"{type(exc).__name__}: {exc}")
+    conn.send(rec)
+    conn.close()
+
+
+# ------------------------------------------------------------------------------ scheduling
+@contextmanager
+def _child_environment(extra: dict):
+    """Set environment variables for the children spawned inside the block, then restore."""
+    old = {k: os.environ.get(k) for k in extra}
+    os.environ.update(extra)
+    try:
+        yield
+    finally:
+        for k, v in old.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+
+
+def _worker_env() -> dict:
+    from ..sim import GL_BACKEND  # chooses MUJOCO_GL in this process (probes once) if unset
+
+    env = dict(SINGLE_THREAD_ENV)
+    env["MUJOCO_GL"] = os.environ.get("MUJOCO_GL") or GL_BACKEND or "egl"
+    # the children import grasp_pipeline from where the parent did
+    pkg_root = str(Path(__file__).resolve().parents[2])
+    paths = [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]
+    if pkg_root not in paths:
+        paths.insert(0, pkg_root)
+    env["PYTHONPATH"] = os.pathsep.join(paths)
+    return env
+
+
+def _run_scenes(tasks: list[tuple[int, int, str]], workers: int, scene_timeout_s: float,
+                progress: bool) -> list[dict]:
+    """Run ``(index, seed, out_dir)`` tasks in spawned processes, ``workers`` at a time."""
+    import multiprocessing as mp
+    from multiprocessing.connection import wait
+
+    from tqdm import tqdm
+
+    ctx = mp.get_context("spawn")
+    pending = list(tasks)
+    running: dict = {}  # sentinel -> (proc, conn, task, t0)
+    results: list[dict] = []
+    bar = tqdm(total=len(tasks), unit="scene", desc="bench grasp", disable=not progress,
+               file=sys.stderr, dynamic_ncols=True)
+    n_obj = n_pick = 0
+    level = logging.getLogger().getEffectiveLevel()
+    env = _worker_env()
+
+    def finish(sentinel, rec):
+        nonlocal n_obj, n_pick
+        proc, conn, _task, _t0 = running.pop(sentinel)
+        conn.close()
+        proc.join(timeout=10)
+        results.append(rec)
+        n_obj += rec["objects"]
+        n_pick += rec["picks"]
+        bar.set_postfix_str(f"picked {n_pick}/{n_obj}")
+        bar.update(1)
+
+    try:
+        while pending or running:
+            while pending and len(running) < workers:
+                index, seed, out_dir = pending.pop(0)
+                recv, send = ctx.Pipe(duplex=False)
+                proc = ctx.Process(target=_child_main, args=(send, index, seed, out_dir, level),
+                                   name=f"bench-scene-{index}", daemon=True)
+                with _child_environment(env):
+                    proc.start()
+                send.close()  # the child holds the only writer: EOF when it dies
+                running[proc.sentinel] = (proc, recv, (index, seed, out_dir), time.perf_counter())
+            now = time.perf_counter()
+            next_deadline = min(t0 + scene_timeout_s for (_p, _c, _t, t0) in running.values())
+            by_obj = {}
+            for sentinel, (_p, conn, _t, _t0) in running.items():
+                by_obj[sentinel] = sentinel
+                by_obj[conn] = sentinel
+            ready = wait(list(by_obj), timeout=max(0.0, next_deadline - now) + 0.05)
+            for obj in ready:
+                sentinel = by_obj[obj]
+                if sentinel not in running:
+                    continue  # (its conn and sentinel were both ready)
+                proc, conn, (index, seed, _d), t0 = running[sentinel]
+                rec = None
+                try:
+                    if conn.poll():
+                        rec = conn.recv()
+                except (EOFError, OSError):
+                    rec = None
+                if rec is None:
+                    proc.join(timeout=30)  # no result: the child closed its end or exited
+                    if proc.exitcode is None:
+                        continue
+                    err = (f"WorkerDied: the scene process exited with code {proc.exitcode} "
+                           f"without a result")
+                    log.error("scene %d (seed %d): %s", index, seed, err)
+                    rec = _failed_record(index, seed, err, time.perf_counter() - t0)
+                finish(sentinel, rec)
+            now = time.perf_counter()
+            for sentinel, (proc, conn, (index, seed, _d), t0) in list(running.items()):
+                if now - t0 > scene_timeout_s:
+                    proc.kill()
+                    err = f"SceneTimeout: the scene took longer than {scene_timeout_s:.0f} s wall time"
+                    log.error("scene %d (seed %d): %s", index, seed, err)
+                    finish(sentinel, _failed_record(index, seed, err, now - t0))
+    finally:
+        for proc, conn, _task, _t0 in running.values():
+            proc.kill()
+            proc.join(timeout=10)
+            conn.close()
+        bar.close()
+    results.sort(key=lambda r: r["index"])
+    return results
+
+
+def _failed_record(index: int, seed: int, error: str, wall_s: float) -> dict:
+    try:
+        objects = _spec_objects(seed)
+    except Exception:  # the scene itself cannot be generated
+        objects = []
+    return scene_record(index, seed, objects, None, error=error, wall_s=wall_s)
+
+
+# ------------------------------------------------------------------------------ aggregation
+def _finite(values: Iterable) -> list[float]:
+    return [float(v) for v in values if v is not None and math.isfinite(float(v))]
+
+
+def _percentile(values: list[float], q: float) -> Optional[float]:
+    if not values:
+        return None
+    import numpy as np
+
+    return float(np.percentile(np.asarray(values, float), q))
+
+
+def stats(values: Iterable) -> dict:
+    """``{"n", "median", "p90", "mean", "max"}`` of the finite values (None when empty — JSON
+    null, never NaN)."""
+    v = _finite(values)
+    r = lambda x: None if x is None else round(x, 4)  # noqa: E731
+    return {"n": len(v), "median": r(_percentile(v, 50)), "p90": r(_percentile(v, 90)),
+            "mean": r(sum(v) / len(v)) if v else None, "max": r(max(v)) if v else None}
+
+
+def _rate(num: int, den: int) -> Optional[float]:
+    return None if den == 0 else round(num / den, 4)
+
+
+def _accuracy(rows: list[dict], key: str, nadir_only: bool) -> dict:
+    """Error statistics over the objects' ``key`` errors (``rough_errors``/``nadir_errors``);
+    ``nadir_only``: only objects whose estimate is NADIR; yaw only for cubes and cuboids."""
+    sel = [(r, r[key]) for r in rows if r.get(key)]
+    if nadir_only:
+        sel = [(r, e) for r, e in sel if e.get("quality") == "NADIR"]
+    out = {"objects": len(sel)}
+    for name, field in ACCURACY_METRICS.items():
+        out[name] = stats(e[field] for r, e in sel if name != "yaw_deg" or r["kind"] in YAW_KINDS)
+    return out
+
+
+def _size_bin(width_mm: float) -> str:
+    edges = SIZE_BINS_MM
+    for lo, hi in zip(edges[:-1], edges[1:]):
+        if width_mm < hi:
+            return f"{lo:.0f}-{hi:.0f}"
+    return f"{edges[-2]:.0f}-{edges[-1]:.0f}"
+
+
+def _group_success(rows: list[dict], key) -> dict:
+    groups: dict = {}
+    for r in rows:
+        g = groups.setdefault(key(r), {"objects": 0, "picked": 0})
+        g["objects"] += 1
+        g["picked"] += int(r["picked"])
+    for g in groups.values():
+        g["success_rate"] = _rate(g["picked"], g["objects"])
+    return dict(sorted(groups.items()))
+
+
+def aggregate(records: list[dict], seed: int, workers: int, wall_time_s: float,
+              extra: Optional[dict] = None) -> dict:
+    """The benchmark JSON from the per-scene records (sorted by scene index)."""
+    records = sorted(records, key=lambda r: r["index"])
+    objs = [o for r in records for o in r["object_rows"]]
+    n_obj = len(objs)
+    n_pick = sum(o["picked"] for o in objs)
+
+    failures: dict = {}
+    for o in objs:
+        if o["picked"]:
+            continue
+        f = failures.setdefault(o["stage"], {"count": 0, "reasons": {}})
+        f["count"] += 1
+        f["reasons"][o["reason"]] = f["reasons"].get(o["reason"], 0) + 1
+    order = {s: i for i, s in enumerate(STAGE_ORDER)}
+    failures = {s: {"count": failures[s]["count"], "reasons": dict(sorted(
+        failures[s]["reasons"].items(), key=lambda kv: (-kv[1], kv[0])))}
+        for s in sorted(failures, key=lambda s: (order.get(s, len(order)), s))}
+
+    # scan failures (the scan's own message; the objects may still be picked)
+    scan_fail: dict = {}
+    for r in records:
+        msg = (r.get("scan") or {}).get("failure")
+        if msg:
+            cat = reason_category(msg)
+            scan_fail[cat] = scan_fail.get(cat, 0) + 1
+
+    # the improvement the scan buys: the same objects, oblique (rough view) vs NADIR
+    paired = [o for o in objs if o.get("rough_errors") and o.get("nadir_errors")
+              and o["nadir_errors"].get("quality") == "NADIR"]
+    improvement = {"objects": len(paired)}
+    for name, field in ACCURACY_METRICS.items():
+        sel = [o for o in paired if name != "yaw_deg" or o["kind"] in YAW_KINDS]
+        improvement[name] = {"oblique_median": stats(o["rough_errors"][field] for o in sel)["median"],
+                             "nadir_median": stats(o["nadir_errors"][field] for o in sel)["median"],
+                             "n": len(sel)}
+
+    stage_keys = sorted({k for r in records for k in r["timings"]})
+    scene_wall = [r["timings"].get("wall_s") for r in records]
+    per_object = [r["timings"]["wall_s"] / r["objects"] for r in records
+                  if r["objects"] and r["timings"].get("wall_s") is not None]
+    n_scenes = len(records)
+    out = {
+        "benchmark": "grasp",
+        "seed": int(seed),
+        "scene_seed_rule": "numpy SeedSequence(entropy=seed, spawn_key=(index,)) -> uint32 >> 1",
+        "scenes": n_scenes,
+        "scenes_failed": sum(1 for r in records if r.get("error")),
+        "objects": n_obj,
+        "picked": n_pick,
+        "success_rate": _rate(n_pick, n_obj),
+        "reported_success_rate": _rate(sum(1 for r in records for p in r["pick_rows"]
+                                           if p["reported_success"]), sum(len(r["pick_rows"]) for r in records)),
+        "false_successes": sum(1 for r in records for p in r["pick_rows"]
+                               if p["reported_success"] and not p["success"]),
+        "failures": n_obj - n_pick,
+        "failures_by_stage": failures,
+        "scan_success_rate": _rate(sum(o["nadir"] for o in objs), n_obj),
+        "scan_failures": dict(sorted(scan_fail.items())),
+        "accuracy": _accuracy(objs, "nadir_errors", nadir_only=True),
+        "accuracy_oblique": _accuracy(objs, "rough_errors", nadir_only=False),
+        "scan_improvement": improvement,
+        "success_by_kind": _group_success(objs, lambda o: o["kind"]),
+        "success_by_width_mm": _group_success(objs, lambda o: _size_bin(o["width_mm"])),
+        "success_by_scene_objects": _group_success(
+            [dict(o, n=r["objects"]) for r in records for o in r["object_rows"]], lambda o: str(o["n"])),
+        "time_per_scene_s": stats(scene_wall),
+        "time_per_object_s": stats(per_object),
+        "time_per_stage_s": {k: stats(r["timings"].get(k) for r in records) for k in stage_keys},
+        "wall_time_s": round(float(wall_time_s), 3),
+        "scenes_per_minute": None if wall_time_s <= 0 else round(60.0 * n_scenes / wall_time_s, 4),
+        "workers": int(workers),
+        "scene_rows": [
+            {"index": r["index"], "seed": r["seed"], "objects": r["objects"], "picks": r["picks"],
+             "errors": ([r["error"]] if r.get("error") else [])
+             + ([r["run_error"]] if r.get("run_error") else [])
+             + [f"{o['name']}: {o['stage']}: {o['message']}" for o in r["object_rows"] if not o["picked"]],
+             "scan": r.get("scan"), "timings": r["timings"],
+             "object_rows": r["object_rows"], "pick_rows": r["pick_rows"]}
+            for r in records],
+    }
+    if extra:
+        out.update(extra)
+    return out
+
+
+def strip_timings(result: dict) -> dict:
+    """``result`` without the fields that legitimately differ between runs (timings)."""
+    if isinstance(result, dict):
+        return {k: strip_timings(v) for k, v in result.items() if k not in TIMING_KEYS}
+    if isinstance(result, list):
+        return [strip_timings(v) for v in result]
+    return result
+
+
+# ------------------------------------------------------------------------------ entry point
+def run_grasp_benchmark(scenes: int, seed: int = 0, workers: int = 1, json_path: str | Path | None = None,
+                        out_dir: str | Path = "out/bench_grasp", progress: bool = True,
+                        scene_timeout_s: float = DEFAULT_SCENE_TIMEOUT_S) -> dict:
+    """Run the benchmark; write the JSON (``json_path``), ``OUT/summary.md`` and plots."""
+    if scenes < 1:
+        raise ValueError(f"scenes must be >= 1, got {scenes}")
+    if workers < 1:
+        raise ValueError(f"workers must be >= 1, got {workers}")
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    tasks = [(i, scene_seed(seed, i), str(out / "scenes" / f"scene_{i:03d}_seed_{scene_seed(seed, i)}"))
+             for i in range(scenes)]
+    workers_used = min(workers, scenes)
+    t0 = time.perf_counter()
+    records = _run_scenes(tasks, workers_used, scene_timeout_s, progress)
+    wall = time.perf_counter() - t0
+    env = _worker_env()
+    result = aggregate(records, seed, workers_used, wall,
+                       extra={"workers_requested": int(workers), "cpu_count": os.cpu_count(),
+                              "mujoco_gl": env["MUJOCO_GL"]})
+
+    from .grasp_plots import write_plots, write_summary
+
+    result["plots"] = {k: str(Path(v).relative_to(out)) for k, v in write_plots(result, out).items()}
+    summary = write_summary(result, out / "summary.md", json_path=json_path)
+    result["summary"] = str(summary)
+    if json_path is not None:
+        Path(json_path).parent.mkdir(parents=True, exist_ok=True)
+        Path(json_path).write_text(json.dumps(result, indent=2, sort_keys=False, allow_nan=False))
+    return result
+
+
+def headline(result: dict) -> str:
+    """A few lines for the terminal."""
+    acc = result["accuracy"]
+    f = lambda s: "n/a" if s["median"] is None else f"{s['median']:.2f}"  # noqa: E731
+    lines = [
+        f"scenes {result['scenes']} ({result['scenes_failed']} raised), objects {result['objects']}, "
+        f"picked {result['picked']} -> success {100 * (result['success_rate'] or 0):.1f} %",
+        f"scan: {100 * (result['scan_success_rate'] or 0):.1f} % of objects NADIR",
+        f"NADIR median errors: centre {f(acc['center_mm'])} mm, width {f(acc['width_mm'])} mm, "
+        f"height {f(acc['height_mm'])} mm, yaw {f(acc['yaw_deg'])} deg",
+        f"time per scene: median {result['time_per_scene_s']['median']} s; wall {result['wall_time_s']:.1f} s "
+        f"with {result['workers']} worker(s) -> {result['scenes_per_minute']} scenes/min",
+    ]
+    for stage, f_ in result["failures_by_stage"].items():
+        lines.append(f"  failed at {stage}: {f_['count']} ({', '.join(f'{k} x{v}' for k, v in f_['reasons'].items())})")
+    return "\n".join(lines)
