@@ -3,7 +3,7 @@
 Sub-commands:
   demo                      the default headless demo: ``run`` on the reference scene
   run                       rough view, active scan, pick (and place) the selected objects
-  bench perception|sim|planning
+  bench perception|sim|planning|grasp
                             benchmarks that print figures and write JSON
   perceive FILE             one point cloud from disk (.pcd/.ply/.npy) through the
                             scene filter and estimates; prints, writes JSON (+ PNG)
@@ -45,6 +45,21 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
     pl.add_argument("--scenes", type=int, default=50)
     pl.add_argument("--seed", type=int, default=0)
     pl.add_argument("--json", type=Path, required=True)
+
+    g = bsub.add_parser(
+        "grasp", help="the whole product on random scenes: pick success, accuracy, time",
+        description="Rough view, scan and pick every object into the tray on N seeded random "
+                    "scenes (1-6 objects), scored against ground truth; scenes run in W spawned "
+                    "worker processes. Writes the JSON, OUT/summary.md and PNG plots.")
+    g.add_argument("--scenes", type=int, default=100, help="number of random scenes (default 100)")
+    g.add_argument("--seed", type=int, default=0, help="benchmark seed; scene seeds derive from it")
+    g.add_argument("--workers", type=int, default=1, help="worker processes (one thread each)")
+    g.add_argument("--json", type=Path, required=True, help="where to write the JSON result")
+    g.add_argument("--out", type=Path, default=Path("out/bench_grasp"),
+                   help="folder for summary.md, plots and per-scene reports")
+    g.add_argument("--scene-timeout", type=float, default=1800.0, metavar="S",
+                   help="wall-clock limit of one scene in seconds (default 1800)")
+    g.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
 def _add_perceive(sub: argparse._SubParsersAction) -> None:
@@ -135,6 +150,15 @@ def _run(args: argparse.Namespace) -> int:
 
             _print_json(run_planning_benchmark(scenes=args.scenes, seed=args.seed,
                                                json_path=args.json))
+        elif args.bench == "grasp":
+            from .bench.grasp_bench import headline, run_grasp_benchmark
+
+            result = run_grasp_benchmark(scenes=args.scenes, seed=args.seed, workers=args.workers,
+                                         json_path=args.json, out_dir=args.out,
+                                         progress=not args.no_progress,
+                                         scene_timeout_s=args.scene_timeout)
+            print(headline(result))
+            print(f"JSON: {args.json}\nsummary: {result['summary']}")
         return 0
     if args.command == "perceive":
         from .perceive import run_perceive

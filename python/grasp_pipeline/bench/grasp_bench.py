@@ -64,6 +64,14 @@ ACCURACY_METRICS = {"center_mm": "center_err_mm", "width_mm": "width_err_mm",
 #: differ between two runs with the same seed.
 TIMING_KEYS = ("wall_time_s", "scenes_per_minute", "time_per_scene_s", "time_per_object_s",
                "time_per_stage_s", "timings", "wall_s")
+#: The issue's targets: name → (JSON path, comparison, value).
+TARGETS = {
+    "pick success": (("success_rate",), ">=", 0.95),
+    "NADIR centre median [mm]": (("accuracy", "center_mm", "median"), "<=", 2.0),
+    "NADIR width median [mm]": (("accuracy", "width_mm", "median"), "<=", 1.5),
+    "NADIR height median [mm]": (("accuracy", "height_mm", "median"), "<=", 1.5),
+    "NADIR yaw median [deg]": (("accuracy", "yaw_deg", "median"), "<=", 1.5),
+}
 #: Pick stages in pipeline order (for tables and plots).
 STAGE_ORDER = ("SCENE", "PLANE", "DETECT", "NOT_ATTEMPTED", "SELECT", "GRASP", "PRE_GRASP",
                "APPROACH", "CLOSE", "LIFT", "DONE", "PLACE", "VERIFY")
@@ -86,20 +94,33 @@ def scene_seed(seed: int, index: int) -> int:
 _STAGE_PREFIX = re.compile(r"^[A-Z_]+ failed:\s*")
 
 
-def reason_category(message: str, max_len: int = 60) -> str:
-    """A short category of a failure message: the text before the first number (and before
-    the first ``:``), with the ``STAGE failed:`` prefix removed.
+_NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
 
-    ``"CLOSE failed: gripper fully closed (1.2 mm): missed the object"`` →
-    ``"gripper fully closed"``.
+
+def reason_category(message: str, max_len: int = 80) -> str:
+    """A short category of a failure message, the same for every instance of one cause: the
+    ``STAGE failed:`` prefix removed; the text before the first ``:`` (the details follow it;
+    when that head is only one or two words, like "execution stopped", the next part too);
+    parenthesised/bracketed details dropped; every number replaced by ``N``.
+
+    ``"CLOSE failed: fingers stalled at 1.2 mm but touch no object"`` →
+    ``"fingers stalled at N mm but touch no object"``;
+    ``"PLACE failed: execution stopped: unexpected robot contact [('a', 'b')]; the arm …"`` →
+    ``"execution stopped: unexpected robot contact"``.
     """
     text = _STAGE_PREFIX.sub("", str(message or "").strip())
-    text = re.split(r"[0-9]", text, maxsplit=1)[0]
-    text = text.split(":", 1)[0].split(" | ", 1)[0]
-    text = re.sub(r"[\s(\[{,;.=#<>~+\-]+$", "", text).strip()
-    if len(text) > max_len:
-        text = text[:max_len].rstrip() + "…"
-    return text or "unspecified"
+    text = text.split(" | ", 1)[0]
+    text = re.sub(r"\([^()]*\)|\[[^\[\]]*\]", "", text)  # (details), [details]
+    parts = [p.strip() for p in re.split(r":\s", text)]
+    head = parts[0]
+    if len(head.split()) <= 2 and len(parts) > 1:
+        head = f"{head}: {parts[1]}"
+    head = head.split(";", 1)[0]
+    head = _NUMBER.sub("N", head)
+    head = re.sub(r"\s+", " ", head).strip(" ,;.:")
+    if len(head) > max_len:
+        head = head[:max_len].rstrip() + "…"
+    return head or "unspecified"
 
 
 def exception_category(exc_text: str) -> str:
@@ -267,12 +288,8 @@ def _worker_env() -> dict:
 
     env = dict(SINGLE_THREAD_ENV)
     env["MUJOCO_GL"] = os.environ.get("MUJOCO_GL") or GL_BACKEND or "egl"
-    # the children import grasp_pipeline from where the parent did
-    pkg_root = str(Path(__file__).resolve().parents[2])
-    paths = [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]
-    if pkg_root not in paths:
-        paths.insert(0, pkg_root)
-    env["PYTHONPATH"] = os.pathsep.join(paths)
+    # PYTHONPATH is inherited with the rest of the environment, and the "spawn" start method
+    # also hands the parent's sys.path to the children.
     return env
 
 
@@ -507,8 +524,21 @@ def aggregate(records: list[dict], seed: int, workers: int, wall_time_s: float,
              "object_rows": r["object_rows"], "pick_rows": r["pick_rows"]}
             for r in records],
     }
+    out["targets"] = _targets(out)
     if extra:
         out.update(extra)
+    out["scene_rows"] = out.pop("scene_rows")  # (the long part last)
+    return out
+
+
+def _targets(result: dict) -> dict:
+    out = {}
+    for name, (path, op, target) in TARGETS.items():
+        v = result
+        for k in path:
+            v = v.get(k) if isinstance(v, dict) else None
+        met = None if v is None else (v >= target if op == ">=" else v <= target)
+        out[name] = {"value": v, "target": f"{op} {target}", "met": met}
     return out
 
 
@@ -548,6 +578,7 @@ def run_grasp_benchmark(scenes: int, seed: int = 0, workers: int = 1, json_path:
     result["plots"] = {k: str(Path(v).relative_to(out)) for k, v in write_plots(result, out).items()}
     summary = write_summary(result, out / "summary.md", json_path=json_path)
     result["summary"] = str(summary)
+    result["scene_rows"] = result.pop("scene_rows")
     if json_path is not None:
         Path(json_path).parent.mkdir(parents=True, exist_ok=True)
         Path(json_path).write_text(json.dumps(result, indent=2, sort_keys=False, allow_nan=False))
