@@ -135,6 +135,7 @@ void bind_types(py::module_& m) {
       .def_readwrite("max_age_s", &ObbParams::max_age_s)
       .def_readwrite("nadir_hold_s", &ObbParams::nadir_hold_s)
       .def_readwrite("nadir_angle_max_deg", &ObbParams::nadir_angle_max_deg)
+      .def_readwrite("nadir_min_distance_m", &ObbParams::nadir_min_distance_m)
       .def("validate", &ObbParams::validate,
            "Raise ValueError naming the first invalid parameter.");
 }

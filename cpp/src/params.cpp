@@ -89,6 +89,8 @@ void ObbParams::validate() const {
           "a duration > 0 s");
   require(finite(nadir_angle_max_deg) && nadir_angle_max_deg >= 0 && nadir_angle_max_deg < 90,
           "nadir_angle_max_deg", nadir_angle_max_deg, "an angle in [0, 90) deg");
+  require(finite(nadir_min_distance_m) && nadir_min_distance_m >= 0 && nadir_min_distance_m <= 10,
+          "nadir_min_distance_m", nadir_min_distance_m, "a distance in [0, 10] m");
 }
 
 }  // namespace grasp_core

@@ -90,8 +90,13 @@ PerceptionFrame Perception::process_impl(const T* xyz, std::size_t n_rows, std::
       }
       out.estimate_labels.push_back(out.filter.cluster_ids[i]);
       out.estimates.push_back(*r.estimate);
-      out.views.push_back(
-          assess_view(r.estimate->center, camera_position, plane.n, obb_.nadir_angle_max_deg));
+      ViewAssessment view =
+          assess_view(r.estimate->center, camera_position, plane.n, obb_.nadir_angle_max_deg);
+      // (ours) A view from closer than nadir_min_distance_m is never NADIR: the camera passing
+      // low over an object (e.g. while carrying another) sees only part of it.
+      if ((r.estimate->center - camera_position).norm() < obb_.nadir_min_distance_m)
+        view.quality = ViewQuality::OBLIQUE;
+      out.views.push_back(view);
       qualities.push_back(out.views.back().quality);
     }
     out.ms_estimate = ms_since(t1);

@@ -62,6 +62,14 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
     g.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
+def _add_config_options(p: argparse.ArgumentParser, sections: str, example: str) -> None:
+    """``--config FILE`` and repeatable ``--set name=value`` (see grasp_pipeline.settings)."""
+    p.add_argument("--config", default=None, metavar="FILE",
+                   help=f"YAML with one section per parameter set ({sections}) overriding the defaults")
+    p.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
+                   help=f"override one parameter (repeatable), e.g. --set {example}")
+
+
 def _add_perceive(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "perceive", help="table plane + object estimates of one point-cloud file",
@@ -81,10 +89,7 @@ def _add_perceive(sub: argparse._SubParsersAction) -> None:
                             "is then the cloud's origin (the camera)")
     p.add_argument("--json", type=Path, required=True, help="where to write the JSON report")
     p.add_argument("--png", type=Path, default=None, help="also write an RViz-like PNG snapshot")
-    p.add_argument("--config", default=None, metavar="FILE",
-                   help="YAML with sections scene_filter / obb overriding the defaults")
-    p.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
-                   help="override one parameter (repeatable), e.g. --set cluster_eps=0.02")
+    _add_config_options(p, "scene_filter / obb", "cluster_eps=0.02")
 
 
 def _add_run(sub: argparse._SubParsersAction) -> None:
@@ -102,11 +107,8 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--json", type=Path, default=None, help="report path (default OUT/report.json)")
     p.add_argument("--no-video", action="store_true", help="skip the MP4")
     p.add_argument("--no-scan", action="store_true", help="pick from the rough (oblique) view")
-    p.add_argument("--config", default=None, metavar="FILE",
-                   help="YAML with one section per parameter set (scene_filter, obb, camera, "
-                        "sim, motion, scan, grasp)")
-    p.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
-                   help="override one parameter (repeatable), e.g. --set grasp.lift_height_m=0.12")
+    _add_config_options(p, "scene_filter, obb, camera, sim, motion, scan, grasp",
+                        "grasp.lift_height_m=0.12")
 
 
 def build_parser() -> argparse.ArgumentParser:

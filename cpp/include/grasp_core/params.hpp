@@ -53,6 +53,7 @@ struct ObbParams {
   double max_age_s = 2.0;               ///< retirement of non-NADIR tracks [s]
   double nadir_hold_s = 10.0;           ///< retirement of NADIR tracks [s]
   double nadir_angle_max_deg = 5.0;     ///< NADIR threshold [deg]
+  double nadir_min_distance_m = 0.25;   ///< (ours) closer views are never NADIR: the object may not fit the view [m]
 
   /// Throws std::invalid_argument naming the offending parameter.
   void validate() const;

@@ -37,7 +37,7 @@ import time
 import traceback
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Iterable, Optional
+from typing import Any, Iterable, Optional
 
 log = logging.getLogger(__name__)
 
@@ -49,6 +49,7 @@ SINGLE_THREAD_ENV = {
     "NUMEXPR_NUM_THREADS": "1",
     "VECLIB_MAXIMUM_THREADS": "1",
     "BLIS_NUM_THREADS": "1",
+    "LP_NUM_THREADS": "1",  # Mesa llvmpipe (software EGL/OSMesa rendering) render threads
 }
 #: Wall-clock limit of one scene [s] (a hung scene is killed and recorded as failed).
 DEFAULT_SCENE_TIMEOUT_S = 1800.0
@@ -179,25 +180,26 @@ def scene_record(index: int, seed: int, objects: list[dict], report: Optional[di
 
     # Attribute every pick row to a true object: its own ground-truth name when it reached the
     # grasp action, else the object nearest to its anchor (a selection that failed).
-    picks = []
+    picks: list[dict[str, Any]] = []
     for p in picks_in:
         name = p.get("object") or _nearest_object(objects, p.get("anchor"))
         ok = bool(p.get("success") and p.get("placed") and not p.get("failed_stage"))
-        row = {"object": name, "anchor": [round(float(x), 4) for x in p.get("anchor") or []],
-               "success": ok, "reported_success": bool(p.get("success")),
-               "placed": bool(p.get("placed")), "lift_mm": round(1e3 * float(p.get("lift_m") or 0.0), 2)}
+        prow: dict[str, Any] = {
+            "object": name, "anchor": [round(float(x), 4) for x in p.get("anchor") or []],
+            "success": ok, "reported_success": bool(p.get("success")),
+            "placed": bool(p.get("placed")), "lift_mm": round(1e3 * float(p.get("lift_m") or 0.0), 2)}
         if not ok:
             stage, msg = _pick_failure(p)
-            row.update(stage=stage, reason=reason_category(msg), message=msg)
-        picks.append(row)
+            prow.update(stage=stage, reason=reason_category(msg), message=msg)
+        picks.append(prow)
 
     scan = report.get("scan") or {}
-    obj_rows = []
+    obj_rows: list[dict[str, Any]] = []
     for o in objects:
         name = o["name"]
         mine = [p for p in picks if p["object"] == name]
         nadir_row = _score_fields(nadir.get(name))
-        row = {"name": name, "kind": o["kind"],
+        row: dict[str, Any] = {"name": name, "kind": o["kind"],
                "width_mm": round(1e3 * min(o["size_m"][0], o["size_m"][1]), 2),
                "height_mm": round(1e3 * o["size_m"][2], 2),
                "picked": any(p["success"] for p in mine), "attempts": len(mine),
@@ -228,6 +230,13 @@ def scene_record(index: int, seed: int, objects: list[dict], report: Optional[di
                     "nadir": sum(r["nadir"] for r in obj_rows)} if scan else None,
            "object_rows": obj_rows, "pick_rows": picks, "timings": timings}
     return rec
+
+
+def _object_count(seed: int) -> int:
+    try:
+        return len(_spec_objects(seed))
+    except Exception:  # (the scene process will record the error)
+        return 0
 
 
 def _spec_objects(seed: int) -> list[dict]:
@@ -417,7 +426,7 @@ def _accuracy(rows: list[dict], key: str, nadir_only: bool) -> dict:
     sel = [(r, r[key]) for r in rows if r.get(key)]
     if nadir_only:
         sel = [(r, e) for r, e in sel if e.get("quality") == "NADIR"]
-    out = {"objects": len(sel)}
+    out: dict[str, Any] = {"objects": len(sel)}
     for name, field in ACCURACY_METRICS.items():
         out[name] = stats(e[field] for r, e in sel if name != "yaw_deg" or r["kind"] in YAW_KINDS)
     return out
@@ -473,7 +482,7 @@ def aggregate(records: list[dict], seed: int, workers: int, wall_time_s: float,
     # the improvement the scan buys: the same objects, oblique (rough view) vs NADIR
     paired = [o for o in objs if o.get("rough_errors") and o.get("nadir_errors")
               and o["nadir_errors"].get("quality") == "NADIR"]
-    improvement = {"objects": len(paired)}
+    improvement: dict[str, Any] = {"objects": len(paired)}
     for name, field in ACCURACY_METRICS.items():
         sel = [o for o in paired if name != "yaw_deg" or o["kind"] in YAW_KINDS]
         improvement[name] = {"oblique_median": stats(o["rough_errors"][field] for o in sel)["median"],
@@ -534,7 +543,7 @@ def aggregate(records: list[dict], seed: int, workers: int, wall_time_s: float,
 def _targets(result: dict) -> dict:
     out = {}
     for name, (path, op, target) in TARGETS.items():
-        v = result
+        v: Any = result
         for k in path:
             v = v.get(k) if isinstance(v, dict) else None
         met = None if v is None else (v >= target if op == ">=" else v <= target)
@@ -564,7 +573,12 @@ def run_grasp_benchmark(scenes: int, seed: int = 0, workers: int = 1, json_path:
     out.mkdir(parents=True, exist_ok=True)
     tasks = [(i, scene_seed(seed, i), str(out / "scenes" / f"scene_{i:03d}_seed_{scene_seed(seed, i)}"))
              for i in range(scenes)]
+    # Longest first (the time of a scene grows with its objects): the last scenes to finish are
+    # short ones, so W workers stay busy to the end. Results are sorted by index afterwards.
+    tasks.sort(key=lambda t: (-_object_count(t[1]), t[0]))
     workers_used = min(workers, scenes)
+    if workers_used > (os.cpu_count() or 1):
+        log.warning("%d workers on %s cores: scenes will compete for CPU", workers_used, os.cpu_count())
     t0 = time.perf_counter()
     records = _run_scenes(tasks, workers_used, scene_timeout_s, progress)
     wall = time.perf_counter() - t0

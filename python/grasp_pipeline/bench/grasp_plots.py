@@ -11,7 +11,7 @@ import math
 from pathlib import Path
 from typing import Optional
 
-from .grasp_bench import ACCURACY_METRICS, STAGE_ORDER, YAW_KINDS
+from .grasp_bench import ACCURACY_METRICS, YAW_KINDS
 
 #: Accuracy panels: (JSON metric, axis label, NADIR target or None).
 ERROR_PANELS = (
@@ -153,23 +153,30 @@ def plot_success(result: dict, path: Path) -> Path:
 
 def plot_failures(result: dict, path: Path) -> Path:
     """Failed objects by stage and reason."""
+    import textwrap
+
+    from matplotlib.ticker import MaxNLocator
+
     plt = _plt()
-    items = [(f"{stage}: {reason}", n) for stage, f in result.get("failures_by_stage", {}).items()
-             for reason, n in f["reasons"].items()]
-    fig, ax = plt.subplots(figsize=(11, max(2.5, 0.45 * len(items) + 1.5)))
+    items = [(textwrap.fill(f"{stage}: {reason}", 48), n)
+             for stage, f in result.get("failures_by_stage", {}).items() for reason, n in f["reasons"].items()]
+    fig, ax = plt.subplots(figsize=(11, max(3.0, 0.6 * len(items) + 1.5)))
     if items:
         labels, counts = zip(*reversed(items))
-        ax.barh(labels, counts, color="#d62728")
-        for y, c in enumerate(counts):
-            ax.text(c, y, f" {c}", va="center", fontsize=9)
-        ax.set_xlabel("failed objects")
+        y = range(len(labels))
+        ax.barh(list(y), counts, color="#d62728")
+        ax.set_yticks(list(y), labels, fontsize=9)
+        for yy, c in zip(y, counts):
+            ax.text(c, yy, f" {c}", va="center", fontsize=9)
+        ax.set_xlim(0, max(counts) * 1.15 + 0.5)
     else:
         ax.text(0.5, 0.5, "no failed objects", ha="center", va="center", transform=ax.transAxes, fontsize=14)
         ax.set_yticks([])
-        ax.set_xlabel("failed objects")
-    ax.set_title(f"Failures by stage and reason — {result.get('failures', 0)} of "
-                 f"{result.get('objects', 0)} objects not in the tray")
+    ax.xaxis.set_major_locator(MaxNLocator(integer=True))
+    ax.set_xlabel("failed objects")
     ax.grid(axis="x", alpha=0.3)
+    fig.suptitle(f"Failures by stage and reason — {result.get('failures', 0)} of "
+                 f"{result.get('objects', 0)} objects not picked into the tray")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -250,6 +257,10 @@ def _fmt(v, nd: int = 2) -> str:
     return "n/a" if v is None else f"{v:.{nd}f}"
 
 
+def _short(text: str, n: int = 160) -> str:
+    return text if len(text) <= n else text[:n].rstrip() + "…"
+
+
 def _pct(v) -> str:
     return "n/a" if v is None else f"{100.0 * v:.1f} %"
 
@@ -326,7 +337,7 @@ def summary_markdown(result: dict, json_path: Optional[str | Path] = None) -> st
     L += ["## Scenes", "", "Reproduce one: `grasp-pipeline run --scene random --seed <seed>`.", ""]
     L += _table(["#", "seed", "objects", "picked", "time [s]", "errors"],
                 [[s["index"], s["seed"], s["objects"], s["picks"], _fmt(s["timings"].get("wall_s"), 1),
-                  "; ".join(s["errors"]) or "—"] for s in r["scene_rows"]])
+                  "; ".join(_short(e) for e in s["errors"]) or "—"] for s in r["scene_rows"]])
     return "\n".join(L)
 
 
@@ -337,4 +348,4 @@ def write_summary(result: dict, path: str | Path, json_path: Optional[str | Path
     return path
 
 
-__all__ = ["write_plots", "write_summary", "summary_markdown", "STAGE_ORDER"]
+__all__ = ["write_plots", "write_summary", "summary_markdown"]

@@ -41,6 +41,7 @@ class GraspConfig:
     """SPEC 7 grasp action and the PLACE stage (ours)."""
 
     pre_grasp_distance_m: float = 0.12
+    fragment_margin_m: float = 0.01
     approach_backoffs_m: tuple[float, ...] = (0.0, 0.008, 0.015)
     open_margin_m: float = 0.02
     close_effort_N: float = 40.0
@@ -55,7 +56,9 @@ class GraspConfig:
     lift_height_m: float = 0.10
     hold_check_s: float = 2.0
     retreat_height_m: float = 0.10
-    place_height_m: float = 0.12
+    carry_height_m: float = 0.30
+    place_height_m: float = 0.15
+    place_clearance_m: float = 0.015
     place_slot_offset_m: float = 0.045
     release_wait_s: float = 0.6
 

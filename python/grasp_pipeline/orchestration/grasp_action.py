@@ -40,7 +40,7 @@ from ..motion.exceptions import MotionError
 from ..sim.robot_model import GRIPPER_MAX_WIDTH_M
 from .config import GraspConfig
 from .runtime import Runtime, Task, wait_s
-from .scene_model import snapshot
+from .scene_model import snapshot, without_fragments
 
 log = logging.getLogger("grasp_pipeline.grasp")
 
@@ -109,6 +109,8 @@ class GraspAction:
         self.picked_tids: set = set()  # tracks of objects already lifted off the table
         self._held: set = set()
         self._target_tid: Optional[int] = None
+        self._target_height_m: Optional[float] = None  # measured height of the object in hand
+        self._backoff_m = 0.0
 
     # ---- goal -------------------------------------------------------------------
     def start(self, grasp: Optional["_core.BestGrasp"] = None, place: bool = True,
@@ -159,7 +161,9 @@ class GraspAction:
         return FINGER_GEOM_MARK in robot_geom and other.startswith(OBJECT_GEOM_PREFIX)
 
     def _holding(self, robot_geom: str, other: str) -> bool:
-        return FINGER_GEOM_MARK in robot_geom and other in self._held
+        """While carrying: the held object may touch any part of the hand (it can tilt
+        against the palm); every other contact is unexpected."""
+        return other in self._held
 
     def _opening(self, grasp) -> float:
         return min(GRIPPER_MAX_WIDTH_M, float(grasp.width_m) + self.config.open_margin_m)
@@ -186,6 +190,7 @@ class GraspAction:
             if k:
                 log.info("using grasp try %d: candidate %d, %.0f mm above the contact point",
                          k + 1, candidates.index(g) + 1, backoff * 1e3)
+            self._backoff_m = backoff
             return g, traj_pre, traj_app, T_grasp
         raise StageFailure("no grasp candidate can be reached: " + " | ".join(errors))
 
@@ -199,9 +204,12 @@ class GraspAction:
         if scene.boxes:  # the target is the tracked object under the grasp
             d = [np.linalg.norm(b.center[:2] - np.asarray(grasp.position)[:2]) for b in scene.boxes]
             target_tid = scene.tids[int(np.argmin(d))]
+            scene = without_fragments(scene, target_tid, cfg.fragment_margin_m)
         motion.set_scene(scene.environment_points, scene.boxes, scene.capture_q,
                          target_index=scene.index_of(target_tid) if target_tid is not None else None)
         self._target_tid = target_tid
+        idx = scene.index_of(target_tid) if target_tid is not None else None
+        self._target_height_m = None if idx is None else float(scene.boxes[idx].extents[2])
         self._enter(out, GraspStage.PRE_GRASP)
         grasp, traj_pre, traj_app, T_grasp = self._plan_approach(candidates)
         approach = np.asarray(grasp.R)[:, 0]
@@ -273,19 +281,45 @@ class GraspAction:
         return gap
 
     def _place(self, out: GraspOutcome):
+        """Carry above a tray slot, lower the object until its bottom is ``place_clearance_m``
+        above the tray floor (its measured height tells where its bottom is), open, go up."""
         cfg, world, motion = self.config, self.rt.world, self.motion
         k = self.placed_count % 4
         offset = cfg.place_slot_offset_m * np.array([(-1) ** k, (-1) ** (k // 2), 0.0])
-        T = world.tcp_pose().copy()
-        T[:3, 3] = self.tray_center + offset + np.array([0.0, 0.0, cfg.place_height_m])
+        slot = self.tray_center + offset
+        T_above = world.tcp_pose().copy()
+        T_above[:3, 3] = slot + np.array([0.0, 0.0, cfg.place_height_m])
         motion.set_target(None)
-        yield from motion.to_pose(T, frame="tcp", kind="place", contact_ok=self._holding)
+        # The planner does not model the object in the hand: first go straight up to the carry
+        # height, so the object hangs well above its neighbours while the arm swings over.
+        plane_z = self.loop.plane.height_m if self.loop.plane is not None else float(slot[2])
+        T_up = world.tcp_pose().copy()
+        if T_up[2, 3] < plane_z + cfg.carry_height_m:
+            T_up[2, 3] = plane_z + cfg.carry_height_m
+            yield from motion.line(T_up, kind="carry_up", allow_target_contact=True,
+                                   contact_ok=self._holding)
+        yield from motion.to_pose(T_above, frame="tcp", kind="place", contact_ok=self._holding)
+        if self._target_height_m is not None:
+            z_release = (cfg.place_clearance_m + 0.5 * self._target_height_m + self._backoff_m)
+            if z_release < cfg.place_height_m:
+                T_down = T_above.copy()
+                T_down[2, 3] = slot[2] + z_release
+                try:
+                    yield from motion.line(T_down, kind="place_down", contact_ok=self._holding)
+                except GraspPipelineError as exc:  # a crowded tray: release from above instead
+                    log.warning("could not lower the object into the tray (%s); releasing from "
+                                "%.0f mm", exc, cfg.place_height_m * 1e3)
+                    motion.sync()
         out.release_time_s = float(world.time_s)
-        world.set_gripper(GRIPPER_MAX_WIDTH_M, effort_N=cfg.close_effort_N)
+        # Open only a little beyond the object: fully open fingers could reach the tray walls.
+        release_gap = min(GRIPPER_MAX_WIDTH_M, (out.stall_gap_m or 0.0) + cfg.open_margin_m)
+        world.set_gripper(release_gap, effort_N=cfg.close_effort_N)
         yield from wait_s(world, cfg.release_wait_s)
         self._held = set()
         self.placed_count += 1
-        motion.planner.set_finger_opening(GRIPPER_MAX_WIDTH_M)
+        motion.planner.set_finger_opening(max(release_gap, world.finger_gap_m))
+        if float(np.linalg.norm(world.tcp_pose()[:3, 3] - T_above[:3, 3])) > cfg.gripper_goal_tolerance_m:
+            yield from motion.line(T_above, kind="place_up", contact_ok=self._finger_on_object)
         if self.home_q is not None:
             yield from motion.to_joints(self.home_q, kind="home")
 

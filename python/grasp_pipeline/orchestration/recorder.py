@@ -11,9 +11,9 @@ from ..report.video import VideoWriter
 
 log = logging.getLogger("grasp_pipeline.recorder")
 
-VIEW_LOOKAT_M = (0.45, 0.15, 0.25)
-VIEW_DISTANCE_M = 1.55
-VIEW_AZIMUTH_DEG = 200.0
+VIEW_LOOKAT_M = (0.35, 0.2, 0.3)
+VIEW_DISTANCE_M = 2.1
+VIEW_AZIMUTH_DEG = 35.0   # from the robot's right-front: arm, table and tray in view
 VIEW_ELEVATION_DEG = -28.0
 
 

@@ -17,6 +17,7 @@ from typing import Optional, Sequence
 
 import numpy as np
 
+from .. import _core
 from ..exceptions import InputError
 from ..motion.motion_planner import MotionPlanner
 from ..perception import PerceptionSession
@@ -180,7 +181,8 @@ def run_pipeline(scene: str = "reference", seed: int = 0, select: Optional[Seque
         # -- picks ------------------------------------------------------------------
         t0 = time.perf_counter()
         targets = list(select) if select else _default_targets(loop)
-        report["picks"] = [_pick(rt, loop, action, world, xy, settings, tray, place) for xy in targets]
+        report["picks"] = [_pick(rt, loop, action, world, xy, settings, tray, place,
+                                 scanner if scan else None) for xy in targets]
         timings["picks_s"] = time.perf_counter() - t0
         report["motion_plans"] = system.motion.plans
     finally:
@@ -191,10 +193,27 @@ def run_pipeline(scene: str = "reference", seed: int = 0, select: Optional[Seque
     return report
 
 
-def _pick(rt: Runtime, loop: PerceptionLoop, action: GraspAction, world, xy, settings, tray, place) -> dict:
+def _reprobe_if_needed(rt: Runtime, loop: PerceptionLoop, scanner: ActiveScan, xy, row: dict) -> None:
+    """A NADIR track retires ``nadir_hold_s`` after it was last seen (the camera looks at the
+    tray while placing), and an oblique view misjudges what a grasp needs. Before a pick,
+    measure the object from above again when its track is no longer NADIR (ours)."""
+    track = loop.nearest_track(np.asarray(xy, float), within_gate=True)
+    if track is None or track.quality == _core.ViewQuality.NADIR:
+        return
+    res = scanner.trigger(centres=[np.asarray(track.smoothed.center, float)])
+    if res.accepted:
+        out = rt.run(scanner.task, SCAN_TIMEOUT_S)
+        row["reprobed"] = bool(out.probes and out.probes[0].nadir)
+        rt.spin(SETTLE_VIEW_S)
+
+
+def _pick(rt: Runtime, loop: PerceptionLoop, action: GraspAction, world, xy, settings, tray, place,
+          scanner: Optional[ActiveScan] = None) -> dict:
     rt.spin(SETTLE_VIEW_S)
     row = {"anchor": [float(xy[0]), float(xy[1])], "success": False, "failed_stage": None,
            "message": "", "lift_m": 0.0, "held_s": 0.0, "placed": False}
+    if scanner is not None:
+        _reprobe_if_needed(rt, loop, scanner, xy, row)
     sel = loop.select(*xy)
     if not sel.ok:
         row.update(failed_stage="SELECT", message=sel.message)

@@ -93,8 +93,11 @@ class ActiveScan:
         return f"stage {self.stage.value}" + (f" ({self.total} objects)" if self.total else "")
 
     # ---- trigger ------------------------------------------------------------------
-    def trigger(self) -> TriggerResult:
-        """Check the refusals, then start the scan in the background."""
+    def trigger(self, centres=None) -> TriggerResult:
+        """Check the refusals, then start the scan in the background.
+
+        ``centres`` (ours): probe only these world positions (e.g. one object whose NADIR
+        track has retired before its pick) instead of every track's rough centre."""
         if self.camera_in_flange is None or self.loop.ready_camera_pose is None:
             return self._refuse("scan refused: camera geometry unknown (no camera pose in the "
                                 "flange frame or no frame seen yet)")
@@ -109,10 +112,12 @@ class ActiveScan:
         tracks = self.loop.tracks()
         if not tracks:
             return self._refuse("scan refused: no objects seen")
+        rough = ([np.asarray(t.smoothed.center, dtype=float).copy() for t in tracks] if centres is None
+                 else [np.asarray(c, dtype=float).copy() for c in centres])
         start_q = np.asarray(self.rt.world.q, dtype=float).copy()
-        self.stage, self.total, self.index = ScanStage.ROUGH, len(tracks), 0
-        self.task = self.rt.start("scan", self._run(start_q))
-        msg = f"scan started: probing {len(tracks)} objects"
+        self.stage, self.total, self.index = ScanStage.ROUGH, len(rough), 0
+        self.task = self.rt.start("scan", self._run(start_q, rough))
+        msg = f"scan started: probing {len(rough)} objects"
         log.info("%s", msg)
         return TriggerResult(True, msg)
 
@@ -121,10 +126,10 @@ class ActiveScan:
         return TriggerResult(False, message)
 
     # ---- the task -----------------------------------------------------------------
-    def _run(self, start_q: np.ndarray):
+    def _run(self, start_q: np.ndarray, rough: list):
         out = ScanOutcome(start_q=start_q.tolist())
         try:
-            yield from self._scan(start_q, out)
+            yield from self._scan(start_q, rough, out)
         finally:
             self.stage, self.index, self.total = ScanStage.IDLE, 0, 0
             self.loop.stale_reported = False
@@ -134,9 +139,9 @@ class ActiveScan:
                      f" ({out.failure})" if out.failure else "")
         return out
 
-    def _scan(self, start_q: np.ndarray, out: ScanOutcome):
-        # ROUGH: rough centres, fixed order (by tid: the order the objects were first seen).
-        rough = [np.asarray(t.smoothed.center, dtype=float).copy() for t in self.loop.tracks()]
+    def _scan(self, start_q: np.ndarray, rough: list, out: ScanOutcome):
+        # ROUGH: rough centres (taken at the trigger), fixed order (by tid: the order the
+        # objects were first seen).
         out.probes = [ProbeResult(i + 1, c.tolist()) for i, c in enumerate(rough)]
         # Liveness, once, before the first motion: no motion and no RETURN when stale.
         if self.loop.report_if_stale(self.rt.world.time_s):

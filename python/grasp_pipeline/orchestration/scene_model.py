@@ -42,3 +42,18 @@ def snapshot(loop, capture_q: Optional[np.ndarray], exclude_tids=()) -> SceneSna
     tracks = [t for t in loop.tracks() if t.tid not in set(exclude_tids)]
     return SceneSnapshot(env, None if capture_q is None else np.asarray(capture_q, float),
                          [track_box(t) for t in tracks], [t.tid for t in tracks])
+
+
+def without_fragments(scene: SceneSnapshot, target_tid: int, margin_m: float) -> SceneSnapshot:
+    """Drop tracks whose centre lies on the target's footprint (+ ``margin_m``): they are
+    pieces of the target seen from another angle (a partly occluded view starts a track of
+    its own), not neighbours — real objects cannot stand inside each other."""
+    k = scene.index_of(target_tid)
+    if k is None:
+        return scene
+    t = scene.boxes[k]
+    reach = 0.5 * float(np.hypot(t.extents[0], t.extents[1])) + margin_m
+    keep = [i for i, b in enumerate(scene.boxes)
+            if i == k or float(np.linalg.norm(b.center[:2] - t.center[:2])) > reach]
+    return SceneSnapshot(scene.environment_points, scene.capture_q,
+                         [scene.boxes[i] for i in keep], [scene.tids[i] for i in keep])

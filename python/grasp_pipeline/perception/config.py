@@ -83,6 +83,7 @@ class ObbConfig:
     max_age_s: float = 2.0
     nadir_hold_s: float = 10.0
     nadir_angle_max_deg: float = 5.0
+    nadir_min_distance_m: float = 0.25
 
     def to_core(self):
         """The C++ ``ObbParams`` with these values (validated)."""

@@ -168,3 +168,25 @@ def test_session_emits_no_environment_before_a_lock():
     s.process(wall, [0.3, 0.0, 0.6], 0.1)
     fr = s.process(wall, [0.3, 0.0, 0.6], 0.2)  # fallback: the whole cloud is environment
     assert fr.raw.filter.fallback and fr.environment_mask.all()
+
+
+def test_a_close_view_from_directly_above_is_not_nadir():
+    """(ours) nadir_min_distance_m: the camera passing low over an object sees part of it."""
+    from grasp_pipeline import _core
+    from grasp_pipeline.perception.synthetic import look_at, reference_tabletop, render_depth
+
+    scene = reference_tabletop()
+    cube = scene.objects[0]
+    top = np.array([cube.center_xy[0], cube.center_xy[1], 0.25])
+    results = {}
+    for height in (0.39, 0.15):  # probing height vs a low pass
+        T = look_at(eye=top + np.array([0, 0, height]), target=top)
+        pts, _ = render_depth(scene, T, rng=np.random.default_rng(1))
+        per = _core.Perception(_core.SceneFilterParams(), _core.ObbParams())
+        per.process(pts, T[:3, 3], 0.0)
+        frame = per.process(pts, T[:3, 3], 0.1)
+        k = int(np.argmin([np.linalg.norm(np.asarray(e.center[:2]) - top[:2]) for e in frame.estimates]))
+        results[height] = frame.views[k]
+    assert results[0.39].quality == _core.ViewQuality.NADIR
+    assert results[0.15].quality == _core.ViewQuality.OBLIQUE
+    assert results[0.15].angle_deg < 5.0  # by angle alone it would have been NADIR
