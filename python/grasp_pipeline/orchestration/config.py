@@ -59,17 +59,18 @@ class GraspConfig:
     carry_height_m: float = 0.30
     place_height_m: float = 0.15
     place_clearance_m: float = 0.015
-    place_slot_offset_m: float = 0.045
+    place_slot_dx_m: float = 0.05
+    place_slot_dy_m: float = 0.08
     release_wait_s: float = 0.6
 
     def validate(self) -> None:
         _positive(self, *(f.name for f in fields(self)
-                          if f.name not in ("close_squeeze_m", "place_slot_offset_m",
+                          if f.name not in ("close_squeeze_m", "place_slot_dx_m", "place_slot_dy_m",
                                             "approach_backoffs_m")))
         if not self.approach_backoffs_m or any(not 0 <= b <= 0.05 for b in self.approach_backoffs_m):
             raise ConfigError("GraspConfig.approach_backoffs_m: expected a non-empty list of "
                               "back-offs in [0, 0.05] m")
-        _positive(self, "close_squeeze_m", "place_slot_offset_m", allow_zero=True)
+        _positive(self, "close_squeeze_m", "place_slot_dx_m", "place_slot_dy_m", allow_zero=True)
         if not 0 < self.close_command_fraction <= 1:
             raise ConfigError("GraspConfig.close_command_fraction: expected (0, 1]")
 

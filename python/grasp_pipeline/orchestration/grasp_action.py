@@ -73,6 +73,25 @@ class GraspOutcome:
     release_time_s: Optional[float] = None  # when the gripper opened to place / recover
 
 
+def tray_slot(k: int, dx_m: float, dy_m: float) -> np.ndarray:
+    """Offset of the k-th drop slot from the tray centre: a 2 x 3 grid, then round again."""
+    k = k % 6
+    return np.array([dx_m * (1 if k % 2 == 0 else -1), dy_m * (k // 2 - 1), 0.0])
+
+
+def _closing_along_x(reference_tcp: np.ndarray) -> np.ndarray:
+    """Top-down TCP rotation whose closing axis (y) is world ±x, the sign nearer the reference."""
+    best, best_d = None, np.inf
+    for sign in (1.0, -1.0):
+        y = np.array([sign, 0.0, 0.0])
+        z = np.array([0.0, 0.0, -1.0])
+        R = np.column_stack([np.cross(y, z), y, z])
+        d = float(np.arccos(np.clip((np.trace(R @ reference_tcp[:3, :3].T) - 1.0) / 2.0, -1.0, 1.0)))
+        if d < best_d:
+            best, best_d = R, d
+    return best
+
+
 def tcp_pose_from_grasp(grasp: "_core.BestGrasp", reference_tcp: np.ndarray) -> np.ndarray:
     """TCP pose (z = approach, y = closing axis) of a BestGrasp; of the two closing signs, the
     one whose hand orientation is nearer ``reference_tcp`` (keeps joint 7 off its limits)."""
@@ -284,10 +303,10 @@ class GraspAction:
         """Carry above a tray slot, lower the object until its bottom is ``place_clearance_m``
         above the tray floor (its measured height tells where its bottom is), open, go up."""
         cfg, world, motion = self.config, self.rt.world, self.motion
-        k = self.placed_count % 4
-        offset = cfg.place_slot_offset_m * np.array([(-1) ** k, (-1) ** (k // 2), 0.0])
-        slot = self.tray_center + offset
-        T_above = world.tcp_pose().copy()
+        slot = self.tray_center + tray_slot(self.placed_count, cfg.place_slot_dx_m, cfg.place_slot_dy_m)
+        # The fingers close along world x at the tray, so they stay clear of its walls.
+        T_above = np.eye(4)
+        T_above[:3, :3] = _closing_along_x(world.tcp_pose())
         T_above[:3, 3] = slot + np.array([0.0, 0.0, cfg.place_height_m])
         motion.set_target(None)
         # The planner does not model the object in the hand: first go straight up to the carry
@@ -319,7 +338,12 @@ class GraspAction:
         self.placed_count += 1
         motion.planner.set_finger_opening(max(release_gap, world.finger_gap_m))
         if float(np.linalg.norm(world.tcp_pose()[:3, 3] - T_above[:3, 3])) > cfg.gripper_goal_tolerance_m:
-            yield from motion.line(T_above, kind="place_up", contact_ok=self._finger_on_object)
+            try:
+                yield from motion.line(T_above, kind="place_up", contact_ok=self._finger_on_object)
+            except GraspPipelineError as exc:
+                log.warning("place_up not plannable (%s); escaping straight up", exc)
+                motion.sync()
+                yield from motion.escape_up(T_above[2, 3] - world.tcp_pose()[2, 3])
         if self.home_q is not None:
             yield from motion.to_joints(self.home_q, kind="home")
 
@@ -337,8 +361,13 @@ class GraspAction:
             yield from motion.line(T, kind="retreat", allow_target_contact=True,
                                    contact_ok=self._finger_on_object)
         except GraspPipelineError as exc:
-            log.warning("retreat failed: %s", exc)
+            log.warning("retreat not plannable (%s); escaping straight up", exc)
             motion.sync()
+            try:
+                yield from motion.escape_up(cfg.retreat_height_m)
+            except GraspPipelineError as exc2:
+                log.warning("escape failed: %s", exc2)
+                motion.sync()
         if self.home_q is not None:
             try:
                 yield from motion.to_joints(self.home_q, kind="home")

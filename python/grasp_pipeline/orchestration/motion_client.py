@@ -19,7 +19,7 @@ import numpy as np
 from ..motion.executor import ExecutionReport, TrajectoryExecutor
 from ..motion.motion_planner import MotionPlanner
 from ..motion.occupancy import OrientedBox
-from ..motion.trajectory import JointTrajectory
+from ..motion.trajectory import JointPath, JointTrajectory
 
 log = logging.getLogger("grasp_pipeline.motion_client")
 
@@ -88,6 +88,18 @@ class MotionClient:
         report: ExecutionReport = yield from self.executor.execute_steps(traj, contact_ok=contact_ok)
         self.q_cmd = traj.q[-1].copy()
         return report
+
+    def escape_up(self, distance_m: float, kind: str = "escape"):
+        """Task generator: straight up by ``distance_m`` when the planner refuses to start
+        (the arm sits inside a *clearance*, e.g. after opening the fingers near a wall).
+        The short joint-space line to the IK solution above is not collision-checked against
+        the clearance; the executor still stops on any real contact."""
+        T = self.world.tcp_pose().copy()
+        T[2, 3] += max(0.0, float(distance_m))
+        ik = self.planner.solve_ik(T, self.q_cmd, "tcp")
+        path = JointPath(np.vstack([self.q_cmd, ik.q]), 0.0, "escape", 0, 0)
+        traj = self.planner.timer.time_path(path)
+        return (yield from self._execute(kind, traj))
 
     def sync(self) -> None:
         """After a stop, plan from where the arm actually is."""

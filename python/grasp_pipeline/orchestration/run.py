@@ -43,7 +43,7 @@ SETTLE_VIEW_S = 0.3          # fresh frames at the start pose before each select
 SCAN_TIMEOUT_S = 120.0       # simulated
 PICK_TIMEOUT_S = 90.0        # simulated
 TRAY_SITE = "tray_centre"
-TRAY_HALF_SIZE_M = 0.09
+TRAY_FLOOR_GEOM = "tray_floor"
 MIN_LIFT_EVAL_M = 0.05       # the report's "lifted" threshold (issue: ≥ 5 cm)
 
 
@@ -74,8 +74,9 @@ def _tracks_report(loop: PerceptionLoop) -> list[dict]:
 
 
 def _default_targets(loop: PerceptionLoop) -> list[tuple[float, float]]:
-    """All tracked objects, nearest to the robot base first."""
-    cs = [np.asarray(t.smoothed.center[:2], float) for t in loop.tracks()]
+    """Every tracked object that passes its grasp checks, nearest to the robot base first
+    (the others — e.g. the tray's rim, too wide — are listed with their notes in the report)."""
+    cs = [np.asarray(t.smoothed.center[:2], float) for t in loop.tracks() if t.smoothed.grasp_ok]
     cs.sort(key=lambda c: float(np.hypot(*c)))
     return [(float(c[0]), float(c[1])) for c in cs]
 
@@ -248,7 +249,8 @@ def _pick(rt: Runtime, loop: PerceptionLoop, action: GraspAction, world, xy, set
     if lift:
         lift.released_at = out.release_time_s
         row.update(lift.result(MIN_LIFT_EVAL_M), object=name)
-        row["placed"] = bool(out.placed and scoring.in_tray(world, name, tray, TRAY_HALF_SIZE_M, tray[2]))
+        half = float(world.model.geom(TRAY_FLOOR_GEOM).size[0])
+        row["placed"] = bool(out.placed and scoring.in_tray(world, name, tray, half, tray[2]))
     return row
 
 
