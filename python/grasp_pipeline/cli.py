@@ -176,6 +176,8 @@ def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     logging.basicConfig(level=getattr(logging, args.log_level),
                         format="%(asctime)s %(levelname)s %(name)s: %(message)s")
+    # TOPP-RA logs every parameterisation at INFO; keep it for --log-level DEBUG.
+    logging.getLogger("toppra").setLevel(max(logging.WARNING, getattr(logging, args.log_level)))
     try:
         return _run(args)
     except GraspPipelineError as exc:

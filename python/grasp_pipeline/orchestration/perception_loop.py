@@ -61,10 +61,12 @@ class PerceptionLoop:
         self.latest = FrameInfo(float(frame.time_s), T, res, None if q is None else np.array(q))
         self.frames += 1
         self.stale_reported = False
-        labels = self.session.view_labels(res)
-        if labels and labels != self._last_labels:
-            log.info("views: %s", labels)
-        self._last_labels = labels
+        # Log the per-object view labels ("#0 nadir, #1 oblique") when they change; the
+        # angles of every frame are at DEBUG.
+        key = ", ".join(f"#{t} {v.quality.name.lower()}" for t, v in zip(res.raw.tids, res.raw.views))
+        if key and key != self._last_labels:
+            log.info("views: %s", self.session.view_labels(res))
+        self._last_labels = key
         self.selector.on_frame(self.tracks(), self.gate_m, self.plane, float(frame.time_s))
 
     # ---- latched state ------------------------------------------------------------
