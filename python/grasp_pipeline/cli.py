@@ -3,7 +3,7 @@
 Sub-commands:
   demo                      the default headless demo: ``run`` on the reference scene
   run                       rough view, active scan, pick (and place) the selected objects
-  bench perception|sim|planning|grasp
+  bench perception|sim|planning|grasp|workers
                             benchmarks that print figures and write JSON
   perceive FILE             one point cloud from disk (.pcd/.ply/.npy) through the
                             scene filter and estimates; prints, writes JSON (+ PNG)
@@ -60,6 +60,18 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
     g.add_argument("--scene-timeout", type=float, default=1800.0, metavar="S",
                    help="wall-clock limit of one scene in seconds (default 1800)")
     g.add_argument("--no-progress", action="store_true", help="no progress bar")
+
+    w = bsub.add_parser(
+        "workers", help="worker scaling: the same grasp-benchmark scenes with 1 and with W workers",
+        description="Runs 'bench grasp' twice on the same seeded scenes (1 worker, then W) and "
+                    "prints the wall-time speed-up and whether both runs gave the same results.")
+    w.add_argument("--scenes", type=int, default=6, help="number of random scenes (default 6)")
+    w.add_argument("--seed", type=int, default=0, help="benchmark seed")
+    w.add_argument("--workers", type=int, default=2, help="workers of the second run (default 2)")
+    w.add_argument("--json", type=Path, required=True, help="where to write the JSON result")
+    w.add_argument("--out", type=Path, default=Path("out/bench_workers"),
+                   help="folder for both runs' JSON, summaries and plots")
+    w.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
 def _add_config_options(p: argparse.ArgumentParser, sections: str, example: str) -> None:
@@ -161,6 +173,12 @@ def _run(args: argparse.Namespace) -> int:
                                          scene_timeout_s=args.scene_timeout)
             print(headline(result))
             print(f"JSON: {args.json}\nsummary: {result['summary']}")
+        elif args.bench == "workers":
+            from .bench.workers_bench import run_workers_benchmark
+
+            _print_json(run_workers_benchmark(scenes=args.scenes, seed=args.seed, workers=args.workers,
+                                              json_path=args.json, out_dir=args.out,
+                                              progress=not args.no_progress))
         return 0
     if args.command == "perceive":
         from .perceive import run_perceive

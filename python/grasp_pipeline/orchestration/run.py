@@ -155,7 +155,7 @@ def run_pipeline(scene: str = "reference", seed: int = 0, select: Optional[Seque
             report["error"] = "no table plane found from the start pose"
             return report  # (the finally block writes the report)
         report["rough"] = {"tracks": _tracks_report(loop),
-                           "scores": scoring.score_estimates(world, loop.tracks()),
+                           "scores": scoring.score_estimates(world, loop.tracks(), settings.obb.width_tol_m),
                            "snapshot": _snapshot(loop, out_dir / "rough.png", "rough view (start pose)")}
         report["plane"] = {"normal": [float(x) for x in loop.plane.n], "c": float(loop.plane.c),
                            "height_m": float(loop.plane.height_m)}
@@ -175,7 +175,7 @@ def run_pipeline(scene: str = "reference", seed: int = 0, select: Optional[Seque
                 "failure": "" if outcome is None else outcome.failure,
                 "probes": [] if outcome is None else [p.__dict__ for p in outcome.probes],
                 "tracks": _tracks_report(loop),
-                "scores": scoring.score_estimates(world, loop.tracks()),
+                "scores": scoring.score_estimates(world, loop.tracks(), settings.obb.width_tol_m),
                 "snapshot": _snapshot(loop, out_dir / "scan.png", "after the active scan"),
             }
 

@@ -1,0 +1,79 @@
+"""Worker scaling of the grasp benchmark: the same scenes with 1 worker, then with W.
+
+``grasp-pipeline bench workers --scenes N --seed K --workers W --json PATH --out DIR``
+
+Both runs are :func:`~grasp_pipeline.bench.grasp_bench.run_grasp_benchmark` on the same
+seeded scenes, one after the other in this one command, so the ratio of their wall times is
+measured under the same machine conditions. The runs must also agree on every non-timing
+field (the benchmark is deterministic per seed and independent of scheduling); the result
+says whether they did, and lists the first differences when they did not.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any, Optional
+
+from .grasp_bench import run_grasp_benchmark, strip_timings
+
+#: The issue's target: ``--workers 2`` at least this much faster than ``--workers 1``.
+SPEEDUP_TARGET = 1.6
+
+
+def _differences(a: Any, b: Any, path: str = "", limit: int = 10) -> list[str]:
+    """Up to ``limit`` paths where two JSON-like values differ."""
+    out: list[str] = []
+    if isinstance(a, dict) and isinstance(b, dict):
+        for k in sorted(set(a) | set(b)):
+            if len(out) >= limit:
+                break
+            out += _differences(a.get(k), b.get(k), f"{path}.{k}", limit - len(out))
+    elif isinstance(a, list) and isinstance(b, list) and len(a) == len(b):
+        for i, (x, y) in enumerate(zip(a, b)):
+            if len(out) >= limit:
+                break
+            out += _differences(x, y, f"{path}[{i}]", limit - len(out))
+    elif a != b:
+        out.append(f"{path or '.'}: {a!r} != {b!r}")
+    return out
+
+
+def run_workers_benchmark(scenes: int, seed: int = 0, workers: int = 2,
+                          json_path: Optional[str | Path] = None,
+                          out_dir: str | Path = "out/bench_workers", progress: bool = True) -> dict:
+    """Run the grasp benchmark with 1 worker and with ``workers``; report the speed-up."""
+    if workers < 2:
+        raise ValueError(f"workers must be >= 2 to compare with 1 worker, got {workers}")
+    out = Path(out_dir)
+    runs = {}
+    for w in (1, workers):
+        runs[w] = run_grasp_benchmark(scenes=scenes, seed=seed, workers=w, json_path=out / f"w{w}.json",
+                                      out_dir=out / f"w{w}", progress=progress)
+    one, many = runs[1], runs[workers]
+    same = strip_timings({k: v for k, v in one.items() if k not in ("workers", "workers_requested",
+                                                                     "plots", "summary")})
+    other = strip_timings({k: v for k, v in many.items() if k not in ("workers", "workers_requested",
+                                                                       "plots", "summary")})
+    diffs = _differences(same, other)
+    speedup = one["wall_time_s"] / many["wall_time_s"] if many["wall_time_s"] > 0 else None
+    result = {
+        "benchmark": "workers",
+        "scenes": scenes, "seed": seed, "objects": one["objects"],
+        "cpu_count": one.get("cpu_count"),
+        "wall_time_s": {"1": one["wall_time_s"], str(workers): many["wall_time_s"]},
+        "scenes_per_minute": {"1": one["scenes_per_minute"], str(workers): many["scenes_per_minute"]},
+        "time_per_scene_median_s": {"1": one["time_per_scene_s"]["median"],
+                                    str(workers): many["time_per_scene_s"]["median"]},
+        "workers": workers,
+        "speedup": None if speedup is None else round(speedup, 3),
+        "speedup_target": SPEEDUP_TARGET,
+        "speedup_met": None if speedup is None else bool(speedup >= SPEEDUP_TARGET),
+        "results_identical": not diffs,
+        "differences": diffs,
+        "success_rate": {"1": one["success_rate"], str(workers): many["success_rate"]},
+    }
+    if json_path is not None:
+        Path(json_path).parent.mkdir(parents=True, exist_ok=True)
+        Path(json_path).write_text(json.dumps(result, indent=2, allow_nan=False))
+    return result
