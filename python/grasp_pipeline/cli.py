@@ -19,6 +19,7 @@ import json
 import logging
 import sys
 from pathlib import Path
+from typing import Optional
 
 from .exceptions import GraspPipelineError
 
@@ -123,10 +124,13 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
                         "grasp.lift_height_m=0.12")
 
 
+LOG_LEVELS = ["DEBUG", "INFO", "WARNING", "ERROR"]
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="grasp-pipeline", description=__doc__.splitlines()[0])
     parser.add_argument("--log-level", default="INFO",
-                        choices=["DEBUG", "INFO", "WARNING", "ERROR"], help="logging level")
+                        choices=LOG_LEVELS, help="logging level (also accepted after the sub-command)")
     sub = parser.add_subparsers(dest="command", required=True)
     sub.add_parser("demo", help="run the default headless demo (reference scene, out/demo)")
     _add_run(sub)
@@ -190,8 +194,19 @@ def _run(args: argparse.Namespace) -> int:
     raise AssertionError(f"unhandled command {args.command}")
 
 
+def _split_log_level(argv: list[str] | None) -> tuple[Optional[str], list[str]]:
+    """``--log-level`` may stand before or after the sub-command: take it out wherever it is."""
+    pre = argparse.ArgumentParser(add_help=False)
+    pre.add_argument("--log-level", choices=LOG_LEVELS, default=None)
+    known, rest = pre.parse_known_args(sys.argv[1:] if argv is None else argv)
+    return known.log_level, rest
+
+
 def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
+    level, rest = _split_log_level(argv)
+    args = build_parser().parse_args(rest)
+    if level is not None:
+        args.log_level = level
     logging.basicConfig(level=getattr(logging, args.log_level),
                         format="%(asctime)s %(levelname)s %(name)s: %(message)s")
     # TOPP-RA logs every parameterisation at INFO; keep it for --log-level DEBUG.

@@ -311,6 +311,10 @@ def summary_markdown(result: dict, json_path: Optional[str | Path] = None) -> st
         a, b = r["accuracy"][metric], r["accuracy_oblique"][metric]
         rows.append([label, _fmt(a["median"]), _fmt(a["p90"]), a["n"], _fmt(b["median"]), _fmt(b["p90"]), b["n"]])
     L += _table(["error", "NADIR median", "NADIR p90", "n", "oblique median", "oblique p90", "n"], rows)
+    L += ["Yaw is scored for cubes and cuboids: modulo 90° for cubes and for cuboids whose sides "
+          "differ by no more than perception's `obb.width_tol_m` (two equivalent closing directions, "
+          "SPEC 2.3; their width is compared with the side the estimate closes on), modulo 180° "
+          "for the other cuboids.", ""]
     L += ["![estimate errors](errors.png)", ""]
     L += ["## Failures", ""]
     if r["failures_by_stage"]:

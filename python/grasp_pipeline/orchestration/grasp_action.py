@@ -315,8 +315,15 @@ class GraspAction:
         T_up = world.tcp_pose().copy()
         if T_up[2, 3] < plane_z + cfg.carry_height_m:
             T_up[2, 3] = plane_z + cfg.carry_height_m
-            yield from motion.line(T_up, kind="carry_up", allow_target_contact=True,
-                                   contact_ok=self._holding)
+            try:
+                yield from motion.line(T_up, kind="carry_up", allow_target_contact=True,
+                                       contact_ok=self._holding)
+            except GraspPipelineError as exc:  # e.g. a wrist joint near a singularity on the line
+                log.warning("carry_up line not plannable (%s); planning a joint-space motion to "
+                            "the same pose instead", exc)
+                motion.sync()
+                yield from motion.to_pose(T_up, frame="tcp", kind="carry_up",
+                                          contact_ok=self._holding)
         yield from motion.to_pose(T_above, frame="tcp", kind="place", contact_ok=self._holding)
         if self._target_height_m is not None:
             z_release = (cfg.place_clearance_m + 0.5 * self._target_height_m + self._backoff_m)

@@ -32,7 +32,8 @@ from .perception_loop import PerceptionLoop
 from .recorder import RunRecorder
 from .runtime import Runtime
 from .scan import ActiveScan
-from .selection import perpendicular_grasp
+from .selection import check_selection, perpendicular_grasp
+from .work_cell import WorkCell
 from . import scoring
 
 log = logging.getLogger("grasp_pipeline.run")
@@ -73,12 +74,23 @@ def _tracks_report(loop: PerceptionLoop) -> list[dict]:
     return out
 
 
-def _default_targets(loop: PerceptionLoop) -> list[tuple[float, float]]:
-    """Every tracked object that passes its grasp checks, nearest to the robot base first
-    (the others — e.g. the tray's rim, too wide — are listed with their notes in the report)."""
-    cs = [np.asarray(t.smoothed.center[:2], float) for t in loop.tracks() if t.smoothed.grasp_ok]
-    cs.sort(key=lambda c: float(np.hypot(*c)))
-    return [(float(c[0]), float(c[1])) for c in cs]
+def _default_targets(loop: PerceptionLoop, cell: WorkCell, fixture_margin_m: float
+                     ) -> tuple[list[tuple[float, float]], list[dict]]:
+    """Every tracked object on the table that passes its grasp checks, nearest to the robot
+    base first; and the tracks left out, each with why (too wide — e.g. a piece of the tray's
+    rim —, over the tray, off the table)."""
+    targets, skipped = [], []
+    for t in loop.tracks():
+        c = np.asarray(t.smoothed.center[:2], float)
+        note = cell.pick_target_note(c, fixture_margin_m)
+        if note is None and not t.smoothed.grasp_ok:
+            note = "; ".join(t.smoothed.notes) or "grasp checks failed"
+        if note is None:
+            targets.append(c)
+        else:
+            skipped.append({"tid": int(t.tid), "center": [float(c[0]), float(c[1])], "why": note})
+    targets.sort(key=lambda c: float(np.hypot(*c)))
+    return [(float(c[0]), float(c[1])) for c in targets], skipped
 
 
 @dataclass
@@ -181,7 +193,11 @@ def run_pipeline(scene: str = "reference", seed: int = 0, select: Optional[Seque
 
         # -- picks ------------------------------------------------------------------
         t0 = time.perf_counter()
-        targets = list(select) if select else _default_targets(loop)
+        if select:
+            targets = list(select)
+        else:
+            targets, report["targets_skipped"] = _default_targets(
+                loop, WorkCell.from_world(world), settings.grasp.target_fixture_margin_m)
         report["picks"] = [_pick(rt, loop, action, world, xy, settings, tray, place,
                                  scanner if scan else None) for xy in targets]
         timings["picks_s"] = time.perf_counter() - t0
@@ -197,11 +213,21 @@ def run_pipeline(scene: str = "reference", seed: int = 0, select: Optional[Seque
 def _reprobe_if_needed(rt: Runtime, loop: PerceptionLoop, scanner: ActiveScan, xy, row: dict) -> None:
     """A NADIR track retires ``nadir_hold_s`` after it was last seen (the camera looks at the
     tray while placing), and an oblique view misjudges what a grasp needs. Before a pick,
-    measure the object from above again when its track is no longer NADIR (ours)."""
-    track = loop.nearest_track(np.asarray(xy, float), within_gate=True)
-    if track is None or track.quality == _core.ViewQuality.NADIR:
+    measure the object from above again when its track is no longer NADIR, or is gone (ours)."""
+    # the track the selection would take (none when the nearest one is beyond its limit)
+    chk = check_selection(float(xy[0]), float(xy[1]), loop.tracks(), loop.gate_m, loop.plane,
+                          loop.selector.fallback_limit_m)
+    track = None if chk.kind in ("far", "nothing") else chk.track
+    if track is not None and track.quality == _core.ViewQuality.NADIR:
         return
-    res = scanner.trigger(centres=[np.asarray(track.smoothed.center, float)])
+    if track is not None:
+        centre = np.asarray(track.smoothed.center, float)
+    elif loop.plane is not None:  # retired and not seen again from here: look where it was
+        n, c = np.asarray(loop.plane.n, float), float(loop.plane.c)
+        centre = np.array([xy[0], xy[1], -(c + n[0] * xy[0] + n[1] * xy[1]) / n[2]])
+    else:
+        return
+    res = scanner.trigger(centres=[centre])
     if res.accepted:
         out = rt.run(scanner.task, SCAN_TIMEOUT_S)
         row["reprobed"] = bool(out.probes and out.probes[0].nadir)
@@ -238,6 +264,9 @@ def _pick(rt: Runtime, loop: PerceptionLoop, action: GraspAction, world, xy, set
         if not ok:
             row.update(failed_stage="GRASP", message=msg)
             return row
+        # The action holds its goal now: stop re-resolving the anchor (once the object is
+        # lifted there is nothing left to publish there, and that is no news).
+        loop.selector.clear()
         out = rt.run(action.task, PICK_TIMEOUT_S)
     finally:
         loop.selector.clear()

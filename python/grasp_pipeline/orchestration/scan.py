@@ -110,7 +110,7 @@ class ActiveScan:
             return self._refuse(f"scan refused: already scanning ({self.status_text()}, stage "
                                 f"{self.stage.value})")
         tracks = self.loop.tracks()
-        if not tracks:
+        if not tracks and centres is None:
             return self._refuse("scan refused: no objects seen")
         rough = ([np.asarray(t.smoothed.center, dtype=float).copy() for t in tracks] if centres is None
                  else [np.asarray(c, dtype=float).copy() for c in centres])

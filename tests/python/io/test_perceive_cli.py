@@ -196,3 +196,22 @@ def test_missing_file_is_a_clear_error(tmp_path, caplog):
 def test_load_cloud_sees_the_saved_camera_frame(scene):
     cloud = load_cloud(scene["pcd"])
     assert cloud.shape_hw == (480, 640) and cloud.num_invalid == 640 * 3
+
+
+@pytest.mark.parametrize("argv", [["--log-level", "WARNING", "run", "--seed", "3"],
+                                  ["run", "--log-level", "WARNING", "--seed", "3"],
+                                  ["run", "--seed", "3", "--log-level", "WARNING"]])
+def test_log_level_before_or_after_the_sub_command(argv):
+    from grasp_pipeline.cli import _split_log_level, build_parser
+
+    level, rest = _split_log_level(argv)
+    assert level == "WARNING"
+    args = build_parser().parse_args(rest)
+    assert (args.command, args.seed) == ("run", 3)
+
+
+def test_bad_log_level_is_refused():
+    from grasp_pipeline.cli import _split_log_level
+
+    with pytest.raises(SystemExit):
+        _split_log_level(["--log-level", "LOUD", "run"])
