@@ -125,7 +125,8 @@ class GraspAction:
         self.stage: Optional[GraspStage] = None
         self.task: Optional[Task] = None
         self.placed_count = 0
-        self.picked_tids: set = set()  # tracks of objects already lifted off the table
+        # tracks of objects already lifted off the table → where they were lifted from [m]
+        self.picked_at: dict[int, np.ndarray] = {}
         self._held: set = set()
         self._target_tid: Optional[int] = None
         self._target_height_m: Optional[float] = None  # measured height of the object in hand
@@ -176,6 +177,18 @@ class GraspAction:
             self.stage = None
         return out
 
+    def _lingering_tids(self) -> set:
+        """Tracks of picked objects still standing where the object was (a NADIR track
+        outlives its object by ``nadir_hold_s``): phantoms, not obstacles. A picked object's
+        track that the tracker has since moved onto another object is that object now."""
+        out = set()
+        for t in self.loop.tracks():
+            xy = self.picked_at.get(t.tid)
+            if xy is not None and float(np.linalg.norm(np.asarray(t.smoothed.center[:2]) - xy)) \
+                    <= self.config.fragment_margin_m:
+                out.add(t.tid)
+        return out
+
     def _finger_on_object(self, robot_geom: str, other: str) -> bool:
         return FINGER_GEOM_MARK in robot_geom and other.startswith(OBJECT_GEOM_PREFIX)
 
@@ -218,7 +231,7 @@ class GraspAction:
         candidates = [grasp, *alternatives]
         # Perceived scene at the moment of the grasp; the target box is no obstacle.
         scene = snapshot(self.loop, self.loop.latest.q if self.loop.latest else None,
-                         exclude_tids=self.picked_tids)
+                         exclude_tids=self._lingering_tids())
         target_tid = None
         if scene.boxes:  # the target is the tracked object under the grasp
             d = [np.linalg.norm(b.center[:2] - np.asarray(grasp.position)[:2]) for b in scene.boxes]
@@ -248,7 +261,9 @@ class GraspAction:
             raise StageFailure(f"fingers stalled at {out.stall_gap_m * 1e3:.1f} mm but touch no object")
         motion.planner.set_finger_opening(out.stall_gap_m)
         if self._target_tid is not None:
-            self.picked_tids.add(self._target_tid)
+            k = scene.index_of(self._target_tid)
+            if k is not None:
+                self.picked_at[self._target_tid] = np.asarray(scene.boxes[k].center[:2], float).copy()
 
         self._enter(out, GraspStage.LIFT)
         T_lift = T_grasp.copy()

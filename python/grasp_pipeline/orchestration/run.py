@@ -74,15 +74,21 @@ def _tracks_report(loop: PerceptionLoop) -> list[dict]:
     return out
 
 
-def _default_targets(loop: PerceptionLoop, cell: WorkCell, fixture_margin_m: float
-                     ) -> tuple[list[tuple[float, float]], list[dict]]:
-    """Every tracked object on the table that passes its grasp checks, nearest to the robot
-    base first; and the tracks left out, each with why (too wide — e.g. a piece of the tray's
-    rim —, over the tray, off the table)."""
+def _default_targets(loop: PerceptionLoop, cell: WorkCell, fixture_margin_m: float,
+                     rough_tids: set[int]) -> tuple[list[tuple[float, float]], list[dict]]:
+    """Every object on the table that passes its grasp checks, nearest to the robot base
+    first; and the tracks left out, each with why (too wide — e.g. a piece of the tray's
+    rim —, over the tray, off the table, or first seen during the scan and never measured
+    from above: a glimpse of the far table from a probe pose, not an object the scan probed).
+
+    ``rough_tids``: the tracks of the rough view (the objects the scan set out to measure)."""
     targets, skipped = [], []
     for t in loop.tracks():
         c = np.asarray(t.smoothed.center[:2], float)
         note = cell.pick_target_note(c, fixture_margin_m)
+        if note is None and t.tid not in rough_tids and t.quality != _core.ViewQuality.NADIR:
+            note = (f"#{t.tid} was first seen during the scan ({t.quality.name.lower()} view) and "
+                    f"never measured from above")
         if note is None and not t.smoothed.grasp_ok:
             note = "; ".join(t.smoothed.notes) or "grasp checks failed"
         if note is None:
@@ -169,6 +175,7 @@ def run_pipeline(scene: str = "reference", seed: int = 0, select: Optional[Seque
         report["rough"] = {"tracks": _tracks_report(loop),
                            "scores": scoring.score_estimates(world, loop.tracks(), settings.obb.width_tol_m),
                            "snapshot": _snapshot(loop, out_dir / "rough.png", "rough view (start pose)")}
+        rough_tids = {int(t.tid) for t in loop.tracks()}
         report["plane"] = {"normal": [float(x) for x in loop.plane.n], "c": float(loop.plane.c),
                            "height_m": float(loop.plane.height_m)}
 
@@ -197,7 +204,7 @@ def run_pipeline(scene: str = "reference", seed: int = 0, select: Optional[Seque
             targets = list(select)
         else:
             targets, report["targets_skipped"] = _default_targets(
-                loop, WorkCell.from_world(world), settings.grasp.target_fixture_margin_m)
+                loop, WorkCell.from_world(world), settings.grasp.target_fixture_margin_m, rough_tids)
         report["picks"] = [_pick(rt, loop, action, world, xy, settings, tray, place,
                                  scanner if scan else None) for xy in targets]
         timings["picks_s"] = time.perf_counter() - t0
