@@ -11,7 +11,7 @@ geometric one.
 - APPROACH: straight line to the contact point; only the fingers may touch objects. When a
   candidate cannot be planned (a neighbour under the hand), the same grasp a little higher
   (``approach_backoffs_m``, still within the finger pads' reach), then the alternatives
-  (e.g. a square's other closing direction) are tried — all planned before any motion.
+  (closing across the other side when it fits the gripper) are tried — all planned before any motion.
 - CLOSE: command a gap of ``2 · close_command_fraction · width − close_squeeze_m`` with the
   effort limit; success by *stalling*: finger speed < ``stall_speed_mps`` for
   ``stall_time_s`` (the commanded gap is narrower than the object, so waiting for it would
@@ -138,7 +138,7 @@ class GraspAction:
         """Start a grasp of ``grasp`` (default: the latest published best grasp).
 
         ``alternatives``: further grasps of the same object, tried in order when the previous
-        one cannot be planned (e.g. a square's other closing direction)."""
+        one cannot be planned (e.g. closing across the other side)."""
         if self.task is not None and not self.task.done:
             return False, f"grasp refused: a grasp is running (stage {self.stage.value})"
         if grasp is None:

@@ -265,7 +265,7 @@ def _pick(rt: Runtime, loop: PerceptionLoop, action: GraspAction, world, xy, set
         rt.observers.append(lift)
     track = next((t for t in loop.tracks() if t.tid == sel.tid), None)
     alt = None if track is None else perpendicular_grasp(
-        track, loop.plane, settings.obb.width_tol_m, settings.obb.gripper_open)
+        track, loop.plane, settings.obb.gripper_open - settings.grasp.open_margin_m)
     try:
         ok, msg = action.start(place=place, alternatives=() if alt is None else (alt,))
         if not ok:

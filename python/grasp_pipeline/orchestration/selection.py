@@ -78,14 +78,15 @@ def check_selection(x: float, y: float, tracks: Sequence["_core.Track"], gate_m:
     return _Check(grasp, track, "")
 
 
-def perpendicular_grasp(track, plane, width_tol_m: float, gripper_open_m: float):
-    """The 90°-rotated top-down grasp of a (near-)square footprint, or None.
+def perpendicular_grasp(track, plane, max_width_m: float):
+    """The 90°-rotated top-down grasp (closing across the other side), or None.
 
-    A square has two equivalent closing directions (SPEC 2.3); when the preferred one cannot
-    be planned (a neighbour blocks the hand), the other is as good a grasp. Offered only when
-    ``perp_width ≤ width + width_tol_m`` and it fits the gripper."""
+    A square has two equivalent closing directions (SPEC 2.3); for any footprint, when the
+    preferred (narrow-side) grasp cannot be planned — a neighbour blocks the hand — closing
+    across the other side is the next best grasp (ours). Offered only when that side fits
+    the gripper with its opening margin: ``perp_width ≤ max_width_m``."""
     e = track.smoothed
-    if e.perp_width_m > e.width_m + width_tol_m or e.perp_width_m > gripper_open_m:
+    if e.perp_width_m > max_width_m:
         return None
     Rb = np.asarray(e.R_box)
     n = np.asarray(plane.n)

@@ -74,10 +74,10 @@ def test_every_frame_republishes_and_logs_failures_once(caplog):
     assert sum("not published" in r.message for r in caplog.records) == 1
 
 
-def test_perpendicular_grasp_only_for_square_footprints():
+def test_perpendicular_grasp_when_the_other_side_fits_the_gripper():
     tr = tracker_with(cube_points(0.46, -0.10), cube_points(0.56, -0.03, seed=1))
     track = tr.tracks[0]
-    alt = perpendicular_grasp(track, PLANE, 0.002, 0.08)
+    alt = perpendicular_grasp(track, PLANE, 0.06)
     assert alt is not None
     R = np.asarray(alt.R)
     best = _core.best_grasp_from_estimate(track.smoothed, PLANE)
@@ -85,8 +85,12 @@ def test_perpendicular_grasp_only_for_square_footprints():
     assert abs(np.linalg.det(R) - 1) < 1e-9
     rng = np.random.default_rng(3)
     n = 2000
-    cuboid = np.column_stack([rng.uniform(-0.015, 0.015, n), rng.uniform(-0.035, 0.035, n),
-                              np.full(n, 0.24)]) + np.array([0.5, 0.1, 0])
-    tr2 = tracker_with(cuboid, cube_points(0.3, -0.2, seed=4))
-    cub = min(tr2.tracks, key=lambda t: abs(t.smoothed.center[0] - 0.5))
-    assert perpendicular_grasp(cub, PLANE, 0.002, 0.08) is None
+    for half_long_m, offered in [(0.035, False), (0.025, True)]:  # 70 mm > 60 mm; 50 mm fits
+        cuboid = np.column_stack([rng.uniform(-0.015, 0.015, n), rng.uniform(-half_long_m, half_long_m, n),
+                                  np.full(n, 0.24)]) + np.array([0.5, 0.1, 0])
+        tr2 = tracker_with(cuboid, cube_points(0.3, -0.2, seed=4))
+        cub = min(tr2.tracks, key=lambda t: abs(t.smoothed.center[0] - 0.5))
+        alt = perpendicular_grasp(cub, PLANE, 0.06)
+        assert (alt is not None) == offered
+        if offered:
+            assert abs(alt.width_m - 2 * half_long_m) < 0.003
