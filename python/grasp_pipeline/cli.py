@@ -52,27 +52,28 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
         description="Rough view, scan and pick every object into the tray on N seeded random "
                     "scenes (1-6 objects), scored against ground truth; scenes run in W spawned "
                     "worker processes. Writes the JSON, OUT/summary.md and PNG plots.")
-    g.add_argument("--scenes", type=int, default=100, help="number of random scenes (default 100)")
-    g.add_argument("--seed", type=int, default=0, help="benchmark seed; scene seeds derive from it")
-    g.add_argument("--workers", type=int, default=1, help="worker processes (one thread each)")
-    g.add_argument("--json", type=Path, required=True, help="where to write the JSON result")
-    g.add_argument("--out", type=Path, default=Path("out/bench_grasp"),
-                   help="folder for summary.md, plots and per-scene reports")
+    _add_scene_benchmark_options(g, scenes=100, workers=1, workers_help="worker processes (one thread each)",
+                                 out="out/bench_grasp", out_help="folder for summary.md, plots and per-scene reports")
     g.add_argument("--scene-timeout", type=float, default=1800.0, metavar="S",
                    help="wall-clock limit of one scene in seconds (default 1800)")
-    g.add_argument("--no-progress", action="store_true", help="no progress bar")
 
     w = bsub.add_parser(
         "workers", help="worker scaling: the same grasp-benchmark scenes with 1 and with W workers",
         description="Runs 'bench grasp' twice on the same seeded scenes (1 worker, then W) and "
                     "prints the wall-time speed-up and whether both runs gave the same results.")
-    w.add_argument("--scenes", type=int, default=6, help="number of random scenes (default 6)")
-    w.add_argument("--seed", type=int, default=0, help="benchmark seed")
-    w.add_argument("--workers", type=int, default=2, help="workers of the second run (default 2)")
-    w.add_argument("--json", type=Path, required=True, help="where to write the JSON result")
-    w.add_argument("--out", type=Path, default=Path("out/bench_workers"),
-                   help="folder for both runs' JSON, summaries and plots")
-    w.add_argument("--no-progress", action="store_true", help="no progress bar")
+    _add_scene_benchmark_options(w, scenes=6, workers=2, workers_help="workers of the second run (default 2)",
+                                 out="out/bench_workers", out_help="folder for both runs' JSON, summaries and plots")
+
+
+def _add_scene_benchmark_options(p: argparse.ArgumentParser, scenes: int, workers: int, workers_help: str,
+                                 out: str, out_help: str) -> None:
+    """``--scenes --seed --workers --json --out --no-progress`` of the scene benchmarks."""
+    p.add_argument("--scenes", type=int, default=scenes, help=f"number of random scenes (default {scenes})")
+    p.add_argument("--seed", type=int, default=0, help="benchmark seed; scene seeds derive from it")
+    p.add_argument("--workers", type=int, default=workers, help=workers_help)
+    p.add_argument("--json", type=Path, required=True, help="where to write the JSON result")
+    p.add_argument("--out", type=Path, default=Path(out), help=out_help)
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
 def _add_config_options(p: argparse.ArgumentParser, sections: str, example: str) -> None:
