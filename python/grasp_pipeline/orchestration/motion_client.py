@@ -30,15 +30,21 @@ def fixture_boxes(world, prefix: str = FIXTURE_PREFIX) -> list[OrientedBox]:
     """Boxes of the work cell's fixed furniture named ``prefix*`` (the tray)."""
     import mujoco
 
+    m = world.model
+    names = [m.geom(g).name for g in range(m.ngeom)
+             if m.geom(g).name.startswith(prefix) and m.geom_type[g] == mujoco.mjtGeom.mjGEOM_BOX]
+    return [geom_box(world, n) for n in names]
+
+
+def geom_box(world, name: str) -> OrientedBox:
+    """The world-frame box of the model's box geom ``name`` (fixed furniture of the cell)."""
+    import mujoco
+
     m, d = world.model, world.data
     mujoco.mj_kinematics(m, d)
-    out = []
-    for g in range(m.ngeom):
-        name = m.geom(g).name
-        if name.startswith(prefix) and m.geom_type[g] == mujoco.mjtGeom.mjGEOM_BOX:
-            out.append(OrientedBox(d.geom_xpos[g].copy(), d.geom_xmat[g].reshape(3, 3).copy(),
-                                   2.0 * m.geom_size[g].copy()))
-    return out
+    g = m.geom(name).id
+    return OrientedBox(d.geom_xpos[g].copy(), d.geom_xmat[g].reshape(3, 3).copy(),
+                       2.0 * m.geom_size[g].copy())
 
 
 class MotionClient:

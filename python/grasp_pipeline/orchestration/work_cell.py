@@ -17,7 +17,7 @@ import numpy as np
 
 from ..motion.occupancy import OrientedBox
 from ..sim.world import TABLE_TOP_GEOM
-from .motion_client import fixture_boxes
+from .motion_client import fixture_boxes, geom_box
 
 
 def _footprint_distance_m(box: OrientedBox, xy: np.ndarray) -> float:
@@ -38,14 +38,7 @@ class WorkCell:
 
     @classmethod
     def from_world(cls, world) -> "WorkCell":
-        import mujoco
-
-        m, d = world.model, world.data
-        mujoco.mj_kinematics(m, d)
-        g = m.geom(TABLE_TOP_GEOM).id
-        table = OrientedBox(d.geom_xpos[g].copy(), d.geom_xmat[g].reshape(3, 3).copy(),
-                            2.0 * m.geom_size[g].copy())
-        return cls(table, tuple(fixture_boxes(world)))
+        return cls(geom_box(world, TABLE_TOP_GEOM), tuple(fixture_boxes(world)))
 
     def pick_target_note(self, xy: Sequence[float], fixture_margin_m: float) -> Optional[str]:
         """Why a track centred at ``xy`` [m] is not an object to pick (None: it is one)."""
