@@ -15,7 +15,6 @@ own module; this file only parses arguments and dispatches.
 from __future__ import annotations
 
 import argparse
-import json
 import logging
 import sys
 from pathlib import Path
@@ -31,21 +30,22 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
     bsub = bench.add_subparsers(dest="bench", required=True)
 
     p = bsub.add_parser("perception", help="per-frame perception speed vs the Python baseline")
-    p.add_argument("--frames", type=int, default=50, help="frames to time (default 50)")
+    p.add_argument("--frames", type=positive_int, default=50, help="frames to time (default 50)")
     p.add_argument("--json", type=Path, required=True, help="where to write the JSON result")
-    p.add_argument("--baseline-frames", type=int, default=5,
+    p.add_argument("--baseline-frames", type=non_negative_int, default=5,
                    help="frames for the slow Python/Open3D baseline (default 5)")
     p.add_argument("--no-baseline", action="store_true",
                    help="skip the baseline (then no speedup is reported)")
 
     s = bsub.add_parser("sim", help="simulation real-time factors")
-    s.add_argument("--seconds", type=float, default=5.0, help="simulated seconds")
+    s.add_argument("--seconds", type=positive_float, default=5.0, help="simulated seconds")
     s.add_argument("--json", type=Path, required=True)
 
     pl = bsub.add_parser("planning", help="planning success / speed on random scenes")
-    pl.add_argument("--scenes", type=int, default=50)
-    pl.add_argument("--seed", type=int, default=0)
+    pl.add_argument("--scenes", type=positive_int, default=50)
+    pl.add_argument("--seed", type=non_negative_int, default=0)
     pl.add_argument("--json", type=Path, required=True)
+    _add_config_options(pl, "scene_filter, obb, camera, sim, motion, scan, grasp", "sim.object_count=[1,3]")
 
     g = bsub.add_parser(
         "grasp", help="the whole product on random scenes: pick success, accuracy, time",
@@ -54,8 +54,9 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
                     "worker processes. Writes the JSON, OUT/summary.md and PNG plots.")
     _add_scene_benchmark_options(g, scenes=100, workers=1, workers_help="worker processes (one thread each)",
                                  out="out/bench_grasp", out_help="folder for summary.md, plots and per-scene reports")
-    g.add_argument("--scene-timeout", type=float, default=1800.0, metavar="S",
+    g.add_argument("--scene-timeout", type=positive_float, default=1800.0, metavar="S",
                    help="wall-clock limit of one scene in seconds (default 1800)")
+    _add_config_options(g, "scene_filter, obb, camera, sim, motion, scan, grasp", "sim.object_count=[1,3]")
 
     w = bsub.add_parser(
         "workers", help="worker scaling: the same grasp-benchmark scenes with 1 and with W workers",
@@ -63,14 +64,15 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
                     "prints the wall-time speed-up and whether both runs gave the same results.")
     _add_scene_benchmark_options(w, scenes=6, workers=2, workers_help="workers of the second run (default 2)",
                                  out="out/bench_workers", out_help="folder for both runs' JSON, summaries and plots")
+    _add_config_options(w, "scene_filter, obb, camera, sim, motion, scan, grasp", "sim.object_count=[1,3]")
 
 
 def _add_scene_benchmark_options(p: argparse.ArgumentParser, scenes: int, workers: int, workers_help: str,
                                  out: str, out_help: str) -> None:
     """``--scenes --seed --workers --json --out --no-progress`` of the scene benchmarks."""
-    p.add_argument("--scenes", type=int, default=scenes, help=f"number of random scenes (default {scenes})")
-    p.add_argument("--seed", type=int, default=0, help="benchmark seed; scene seeds derive from it")
-    p.add_argument("--workers", type=int, default=workers, help=workers_help)
+    p.add_argument("--scenes", type=positive_int, default=scenes, help=f"number of random scenes (default {scenes})")
+    p.add_argument("--seed", type=non_negative_int, default=0, help="benchmark seed; scene seeds derive from it")
+    p.add_argument("--workers", type=positive_int, default=workers, help=workers_help)
     p.add_argument("--json", type=Path, required=True, help="where to write the JSON result")
     p.add_argument("--out", type=Path, default=Path(out), help=out_help)
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -106,6 +108,40 @@ def _add_perceive(sub: argparse._SubParsersAction) -> None:
     _add_config_options(p, "scene_filter / obb", "cluster_eps=0.02")
 
 
+def _checked(convert, ok, expected: str):
+    """An argparse type: ``convert(text)`` that must satisfy ``ok``, else a message."""
+    def parse(text: str):
+        try:
+            v = convert(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected {expected}, got {text!r}") from None
+        if not ok(v):
+            raise argparse.ArgumentTypeError(f"expected {expected}, got {text}")
+        return v
+
+    parse.__name__ = expected
+    return parse
+
+
+#: argparse types: whole numbers >= 1 / >= 0, numbers > 0 / finite (NaN and inf refused).
+positive_int = _checked(int, lambda v: v >= 1, "a whole number >= 1")
+non_negative_int = _checked(int, lambda v: v >= 0, "a whole number >= 0")
+positive_float = _checked(float, lambda v: 0 < v < float("inf"), "a finite number > 0")
+finite_float = _checked(float, lambda v: abs(v) < float("inf"), "a finite number")
+
+
+def _add_pick_options(p: argparse.ArgumentParser, out: str) -> None:
+    """Options shared by ``run`` and ``demo``."""
+    p.add_argument("--select", nargs="+", type=finite_float, metavar="X Y", default=None,
+                   help="world (x, y) of the objects to pick, as pairs: --select 0.56 -0.03 0.52 0.09")
+    p.add_argument("--out", type=Path, default=Path(out), help=f"folder for images and video (default {out})")
+    p.add_argument("--json", type=Path, default=None, help="report path (default OUT/report.json)")
+    p.add_argument("--no-video", action="store_true", help="skip the MP4")
+    p.add_argument("--no-scan", action="store_true", help="pick from the rough (oblique) view")
+    _add_config_options(p, "scene_filter, obb, camera, sim, motion, scan, grasp",
+                        "grasp.lift_height_m=0.12")
+
+
 def _add_run(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "run", help="scan the table, then pick the selected objects into the tray",
@@ -114,15 +150,8 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
                     "nearest first) and place it in the tray. Writes a report JSON, PNG "
                     "snapshots and an MP4.")
     p.add_argument("--scene", choices=["reference", "random"], default="reference")
-    p.add_argument("--seed", type=int, default=0, help="random scene seed")
-    p.add_argument("--select", nargs="+", type=float, metavar="X Y", default=None,
-                   help="world (x, y) of the objects to pick, as pairs: --select 0.56 -0.03 0.52 0.09")
-    p.add_argument("--out", type=Path, default=Path("out/run"), help="folder for images and video")
-    p.add_argument("--json", type=Path, default=None, help="report path (default OUT/report.json)")
-    p.add_argument("--no-video", action="store_true", help="skip the MP4")
-    p.add_argument("--no-scan", action="store_true", help="pick from the rough (oblique) view")
-    _add_config_options(p, "scene_filter, obb, camera, sim, motion, scan, grasp",
-                        "grasp.lift_height_m=0.12")
+    p.add_argument("--seed", type=non_negative_int, default=0, help="random scene seed")
+    _add_pick_options(p, "out/run")
 
 
 LOG_LEVELS = ["DEBUG", "INFO", "WARNING", "ERROR"]
@@ -133,7 +162,11 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--log-level", default="INFO",
                         choices=LOG_LEVELS, help="logging level (also accepted after the sub-command)")
     sub = parser.add_subparsers(dest="command", required=True)
-    sub.add_parser("demo", help="run the default headless demo (reference scene, out/demo)")
+    demo = sub.add_parser("demo", help="run the default headless demo (reference scene, out/demo)",
+                          description="The full run on the reference scene (SPEC 8): rough view, "
+                                      "scan, all three objects into the tray. Same options as run.")
+    demo.set_defaults(seed=0)
+    _add_pick_options(demo, "out/demo")
     _add_run(sub)
     _add_bench(sub)
     _add_perceive(sub)
@@ -141,16 +174,18 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _print_json(result: dict) -> None:
-    print(json.dumps(result, indent=2, sort_keys=True))
+    from .report.serialize import dumps
+
+    print(dumps(result, sort_keys=True))
 
 
 def _run(args: argparse.Namespace) -> int:
     if args.command == "demo":
         from .demo import run_demo
 
-        return run_demo()
+        return run_demo(args)
     if args.command == "run":
-        from .orchestration.summary import run_command
+        from .app.run_command import run_command
 
         return run_command(args)
     if args.command == "bench":
@@ -168,14 +203,15 @@ def _run(args: argparse.Namespace) -> int:
             from .bench.planning_bench import run_planning_benchmark
 
             _print_json(run_planning_benchmark(scenes=args.scenes, seed=args.seed,
-                                               json_path=args.json))
+                                               json_path=args.json, overrides=(args.config, args.sets)))
         elif args.bench == "grasp":
             from .bench.grasp_bench import headline, run_grasp_benchmark
 
             result = run_grasp_benchmark(scenes=args.scenes, seed=args.seed, workers=args.workers,
                                          json_path=args.json, out_dir=args.out,
                                          progress=not args.no_progress,
-                                         scene_timeout_s=args.scene_timeout)
+                                         scene_timeout_s=args.scene_timeout,
+                                         overrides=(args.config, args.sets))
             print(headline(result))
             print(f"JSON: {args.json}\nsummary: {result['summary']}")
         elif args.bench == "workers":
@@ -183,7 +219,8 @@ def _run(args: argparse.Namespace) -> int:
 
             _print_json(run_workers_benchmark(scenes=args.scenes, seed=args.seed, workers=args.workers,
                                               json_path=args.json, out_dir=args.out,
-                                              progress=not args.no_progress))
+                                              progress=not args.no_progress,
+                                              overrides=(args.config, args.sets)))
         return 0
     if args.command == "perceive":
         from .perceive import run_perceive
@@ -212,11 +249,18 @@ def main(argv: list[str] | None = None) -> int:
                         format="%(asctime)s %(levelname)s %(name)s: %(message)s")
     # TOPP-RA logs every parameterisation at INFO; keep it for --log-level DEBUG.
     logging.getLogger("toppra").setLevel(max(logging.WARNING, getattr(logging, args.log_level)))
+    # Before anything imports mujoco: the GL backend can only be chosen then.
+    from .sim.gl_backend import configure_gl
+
+    configure_gl()
     try:
         return _run(args)
     except GraspPipelineError as exc:
         log.error("%s", exc)
         return 2
+    except KeyboardInterrupt:
+        log.error("interrupted")
+        return 130
 
 
 if __name__ == "__main__":

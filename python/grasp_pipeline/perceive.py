@@ -26,13 +26,11 @@ what to check.
 
 from __future__ import annotations
 
-import json
 import logging
-import math
 import os
 import time
 from pathlib import Path
-from typing import Iterable, Sequence
+from typing import Iterable, Optional, Sequence
 
 import numpy as np
 
@@ -124,122 +122,78 @@ def _guess_units_hint(points_world: np.ndarray) -> str:
     return f"median distance of the points from the origin: {med:.2f} m"
 
 
-def run_perceive(path: str | os.PathLike, *, T_world_camera: Sequence | None = None,
-                 up: Sequence[float] | None = None, json_path: str | os.PathLike,
-                 png_path: str | os.PathLike | None = None, config_file: str | None = None,
-                 sets: Sequence[str] = (), out=print) -> dict:
-    """Run the ``perceive`` command; returns the JSON report (also written to ``json_path``)."""
-    from . import _core
-    from .io.cloud_io import load_cloud
-    from .perception import PerceptionSession
-    from .settings import load_settings
-
+def _world_transform(T_world_camera, up) -> tuple[np.ndarray, str]:
     if (T_world_camera is None) == (up is None):
         raise InputError("give exactly one of --T-world-camera (16 numbers) or --up X Y Z")
-    settings = load_settings(("scene_filter", "obb"), config_file, sets)
     if T_world_camera is not None:
-        T = parse_transform(T_world_camera)
-        frame_source = "T_world_camera"
-    else:
-        T = world_from_up(up)
-        frame_source = "up"
+        return parse_transform(T_world_camera), "T_world_camera"
+    return world_from_up(up), "up"
+
+
+def _load(path) -> tuple[object, float]:
+    from .io.cloud_io import load_cloud
 
     t0 = time.perf_counter()
     cloud = load_cloud(path)
     t_load = time.perf_counter() - t0
-    n_total = len(cloud.points)
-    n_invalid = cloud.num_invalid
-    log.info("loaded %s: %d points (%d invalid)%s in %.0f ms", cloud.path, n_total, n_invalid,
-             f", organized {cloud.height}x{cloud.width}" if cloud.organized else "", 1e3 * t_load)
-    if n_total - n_invalid < 3:
-        raise InputError(f"{cloud.path}: only {n_total - n_invalid} valid points; nothing to perceive")
+    n_valid = len(cloud.points) - cloud.num_invalid
+    log.info("loaded %s: %d points (%d invalid)%s in %.0f ms", cloud.path, len(cloud.points),
+             cloud.num_invalid, f", organized {cloud.height}x{cloud.width}" if cloud.organized else "",
+             1e3 * t_load)
+    if n_valid < 3:
+        raise InputError(f"{cloud.path}: only {n_valid} valid points; nothing to perceive")
+    return cloud, t_load
 
-    R, t = T[:3, :3], T[:3, 3]
-    pts_world = (cloud.points.astype(np.float64) @ R.T + t).astype(np.float32)
-    camera_position = t.copy()
 
-    session = PerceptionSession(settings.scene_filter, settings.obb)
-    t1 = time.perf_counter()
-    frame = session.process(pts_world, camera_position=camera_position, time_s=0.0)
-    t_perc = time.perf_counter() - t1
-    plane = session.plane
-    if plane is None:
-        sf = settings.scene_filter
-        how = ("the --up vector (world +z expressed in the cloud's frame: it must point away "
-               "from the table, towards the camera side)" if frame_source == "up" else
-               "--T-world-camera (it maps the cloud's frame into a world frame with z up, "
-               "row-major)")
-        raise NoTablePlaneError(
-            f"no table plane found in {cloud.path} ({n_total - n_invalid} valid points): no "
-            f"plane within {sf.plane_max_tilt_deg:g} deg of horizontal held at least "
-            f"{sf.plane_min_inlier_ratio:g} of the points. Check {how}; check that the "
-            f"coordinates are in metres ({_guess_units_hint(pts_world)}); the tolerances are "
-            f"--set plane_max_tilt_deg=... and --set plane_dist_thresh=... (now "
-            f"{sf.plane_dist_thresh:g} m)")
+def _no_plane_error(cloud, pts_world, sf, frame_source: str) -> NoTablePlaneError:
+    how = ("the --up vector (world +z expressed in the cloud's frame: it must point away "
+           "from the table, towards the camera side)" if frame_source == "up" else
+           "--T-world-camera (it maps the cloud's frame into a world frame with z up, "
+           "row-major)")
+    return NoTablePlaneError(
+        f"no table plane found in {cloud.path} ({len(cloud.points) - cloud.num_invalid} valid "
+        f"points): no plane within {sf.plane_max_tilt_deg:g} deg of horizontal held at least "
+        f"{sf.plane_min_inlier_ratio:g} of the points. Check {how}; check that the "
+        f"coordinates are in metres ({_guess_units_hint(pts_world)}); the tolerances are "
+        f"--set plane_max_tilt_deg=... and --set plane_dist_thresh=... (now "
+        f"{sf.plane_dist_thresh:g} m)")
 
-    table_inliers = None
-    planes = frame.raw.filter.planes
-    idx = frame.raw.filter.table_index
-    if 0 <= idx < len(planes):
-        table_inliers = int(planes[idx].count_whole)
 
-    objects = []
-    boxes, grasps = [], []
-    for i, (est, view, tid) in enumerate(zip(frame.estimates, frame.raw.views, frame.raw.tids)):
-        w, pw, h = _vec(est.extents)
-        obj = {
-            "id": i,
-            "track_id": int(tid),
-            "center": _vec(est.center),
-            "extents": [w, pw, h],
-            "theta_deg": float(est.theta_deg),
-            "R_box": np.asarray(est.R_box, float).tolist(),
-            "yaw_defined": bool(est.yaw_defined),
-            "grasp_ok": bool(est.grasp_ok),
-            "notes": list(est.notes),
-            "undetermined_notes": list(est.undetermined_notes),
-            "view": {"quality": view.quality.name.lower(), "angle_deg": float(view.angle_deg)},
-            "pca_tilt_deg": float(est.pca_tilt_deg),
-            "num_points": int(est.num_points),
-        }
-        g = _core.best_grasp_from_estimate(est, plane)
-        if g is not None:
-            Rg = np.asarray(g.R, float)
-            obj["grasp"] = {"position": _vec(g.position), "approach": _vec(Rg[:, 0]),
-                            "R": Rg.tolist(), "width_m": float(g.width_m)}
-            grasps.append((np.asarray(g.position, float), Rg[:, 0]))
-        objects.append(obj)
-        boxes.append((np.asarray(est.center, float), np.asarray(est.R_box, float),
-                      np.asarray(est.extents, float)))
+def _object_entry(i: int, est, view, tid, plane) -> tuple[dict, tuple, Optional[tuple]]:
+    """(report entry, box for the snapshot, approach arrow or None) of one estimate."""
+    from . import _core
 
-    report = {
-        "input": {
-            "path": str(cloud.path),
-            "format": cloud.source_format,
-            "points": n_total,
-            "invalid_points": n_invalid,
-            "organized": [cloud.height, cloud.width] if cloud.organized else None,
-        },
-        "world_frame": {"source": frame_source, "T_world_camera": T.tolist(),
-                        "up_in_camera": None if up is None else _vec(up)},
-        "camera_position": _vec(camera_position),
-        "plane": {"normal": _vec(plane.n), "c": float(plane.c), "height_m": float(plane.height_m),
-                  "tilt_deg": float(plane.tilt_deg()), "inliers": table_inliers},
-        "objects": objects,
-        "failed_clusters": [{"label": int(lbl), "why": str(why)}
-                            for lbl, why in zip(frame.raw.failed_labels, frame.raw.failures)],
-        "timings_ms": {"load": 1e3 * t_load, "perception": 1e3 * t_perc},
-        "settings": settings.as_dict(),
-    }
+    obj = {"id": i, "track_id": int(tid), "center": _vec(est.center), "extents": _vec(est.extents),
+           "theta_deg": float(est.theta_deg), "R_box": np.asarray(est.R_box, float).tolist(),
+           "yaw_defined": bool(est.yaw_defined), "grasp_ok": bool(est.grasp_ok),
+           "notes": list(est.notes), "undetermined_notes": list(est.undetermined_notes),
+           "view": {"quality": view.quality.name.lower(), "angle_deg": float(view.angle_deg)},
+           "pca_tilt_deg": float(est.pca_tilt_deg), "num_points": int(est.num_points)}
+    arrow = None
+    g = _core.best_grasp_from_estimate(est, plane)
+    if g is not None:
+        Rg = np.asarray(g.R, float)
+        obj["grasp"] = {"position": _vec(g.position), "approach": _vec(Rg[:, 0]),
+                        "R": Rg.tolist(), "width_m": float(g.width_m)}
+        arrow = (np.asarray(g.position, float), Rg[:, 0])
+    box = (np.asarray(est.center, float), np.asarray(est.R_box, float), np.asarray(est.extents, float))
+    return obj, box, arrow
 
-    # ---- human-readable summary ----
-    n = plane.n
-    out(f"input: {cloud.path} ({n_total} points, {n_invalid} invalid"
+
+def _table_inliers(frame) -> Optional[int]:
+    planes, idx = frame.raw.filter.planes, frame.raw.filter.table_index
+    return int(planes[idx].count_whole) if 0 <= idx < len(planes) else None
+
+
+def _print_summary(out, report: dict, cloud, view_labels: str) -> None:
+    n, pl = report["plane"]["normal"], report["plane"]
+    out(f"input: {cloud.path} ({len(cloud.points)} points, {cloud.num_invalid} invalid"
         + (f", organized {cloud.height}x{cloud.width})" if cloud.organized else ")"))
-    out(f"table plane: n = ({n[0]:+.4f}, {n[1]:+.4f}, {n[2]:+.4f}), c = {plane.c:+.4f}, "
-        f"height = {plane.height_m:.4f} m, tilt = {plane.tilt_deg():.2f} deg"
-        + (f", {table_inliers} inliers" if table_inliers is not None else ""))
-    out(f"objects: {len(objects)}" + (f" (views: {session.view_labels(frame)})" if objects else ""))
+    out(f"table plane: n = ({n[0]:+.4f}, {n[1]:+.4f}, {n[2]:+.4f}), c = {pl['c']:+.4f}, "
+        f"height = {pl['height_m']:.4f} m, tilt = {pl['tilt_deg']:.2f} deg"
+        + (f", {pl['inliers']} inliers" if pl["inliers"] is not None else ""))
+    objects = report["objects"]
+    out(f"objects: {len(objects)}" + (f" (views: {view_labels})" if objects else ""))
     for o in objects:
         c, (w, pw, h) = o["center"], o["extents"]
         verdict = "grasp ok" if o["grasp_ok"] else "REFUSED: " + " | ".join(o["notes"])
@@ -250,32 +204,65 @@ def run_perceive(path: str | os.PathLike, *, T_world_camera: Sequence | None = N
         for note in o["undetermined_notes"]:
             out(f"      note: {note}")
 
+
+def _report(cloud, T, frame_source, up, frame, plane, objects, settings, timings) -> dict:
+    return {
+        "input": {"path": str(cloud.path), "format": cloud.source_format, "points": len(cloud.points),
+                  "invalid_points": cloud.num_invalid,
+                  "organized": [cloud.height, cloud.width] if cloud.organized else None},
+        "world_frame": {"source": frame_source, "T_world_camera": T.tolist(),
+                        "up_in_camera": None if up is None else _vec(up)},
+        "camera_position": _vec(T[:3, 3]),
+        "plane": {"normal": _vec(plane.n), "c": float(plane.c), "height_m": float(plane.height_m),
+                  "tilt_deg": float(plane.tilt_deg()), "inliers": _table_inliers(frame)},
+        "objects": objects,
+        "failed_clusters": [{"label": int(lbl), "why": str(why)}
+                            for lbl, why in zip(frame.raw.failed_labels, frame.raw.failures)],
+        "timings_ms": timings, "settings": settings.as_dict()}
+
+
+def run_perceive(path: str | os.PathLike, *, T_world_camera: Sequence | None = None,
+                 up: Sequence[float] | None = None, json_path: str | os.PathLike,
+                 png_path: str | os.PathLike | None = None, config_file: str | None = None,
+                 sets: Sequence[str] = (), out=print) -> dict:
+    """Run the ``perceive`` command; returns the JSON report (also written to ``json_path``)."""
+    from .perception import PerceptionSession
+    from .report.serialize import check_writable, write_json
+    from .settings import load_settings
+
+    T, frame_source = _world_transform(T_world_camera, up)
+    settings = load_settings(("scene_filter", "obb"), config_file, sets)
+    check_writable(json_path, "report file (--json)")
     if png_path is not None:
-        from .report.snapshot import render_snapshot
-
-        obj_pts, obj_labels = frame.object_points()
-        t2 = time.perf_counter()
-        render_snapshot(png_path, obj_pts, obj_labels, frame.environment_points(), boxes, grasps,
-                        plane=plane, title=f"perceive {Path(cloud.path).name}")
-        report["png"] = str(png_path)
-        report["timings_ms"]["png"] = 1e3 * (time.perf_counter() - t2)
+        check_writable(png_path, "snapshot (--png)")
+    cloud, t_load = _load(path)
+    pts_world = (cloud.points.astype(np.float64) @ T[:3, :3].T + T[:3, 3]).astype(np.float32)
+    session = PerceptionSession(settings.scene_filter, settings.obb)
+    t1 = time.perf_counter()
+    frame = session.process(pts_world, camera_position=T[:3, 3].copy(), time_s=0.0)
+    timings = {"load": 1e3 * t_load, "perception": 1e3 * (time.perf_counter() - t1)}
+    plane = session.plane
+    if plane is None:
+        raise _no_plane_error(cloud, pts_world, settings.scene_filter, frame_source)
+    entries = [_object_entry(i, est, view, tid, plane) for i, (est, view, tid)
+               in enumerate(zip(frame.estimates, frame.raw.views, frame.raw.tids))]
+    report = _report(cloud, T, frame_source, up, frame, plane, [e[0] for e in entries], settings, timings)
+    _print_summary(out, report, cloud, session.view_labels(frame))
+    if png_path is not None:
+        _snapshot(frame, plane, entries, png_path, cloud, report)
         out(f"snapshot: {png_path}")
-
-    json_path = Path(json_path)
-    if json_path.parent and not json_path.parent.exists():
-        json_path.parent.mkdir(parents=True, exist_ok=True)
-    with open(json_path, "w", encoding="utf-8") as fh:
-        json.dump(_jsonable(report), fh, indent=2)
+    write_json(json_path, report)
     out(f"report: {json_path}")
     return report
 
 
-def _jsonable(obj):
-    """Replace non-finite floats (not valid JSON) by None, recursively."""
-    if isinstance(obj, float):
-        return obj if math.isfinite(obj) else None
-    if isinstance(obj, dict):
-        return {k: _jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_jsonable(v) for v in obj]
-    return obj
+def _snapshot(frame, plane, entries, png_path, cloud, report: dict) -> None:
+    from .report.snapshot import render_snapshot
+
+    obj_pts, obj_labels = frame.object_points()
+    t2 = time.perf_counter()
+    render_snapshot(png_path, obj_pts, obj_labels, frame.environment_points(),
+                    [e[1] for e in entries], [e[2] for e in entries if e[2] is not None],
+                    plane=plane, title=f"perceive {Path(cloud.path).name}")
+    report["png"] = str(png_path)
+    report["timings_ms"]["png"] = 1e3 * (time.perf_counter() - t2)

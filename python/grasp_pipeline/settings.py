@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import dataclasses
 import importlib
+from types import MappingProxyType
 from typing import Any, Iterable, Mapping
 
 import yaml
@@ -23,19 +24,17 @@ import yaml
 from .config import build_config, load_config, read_yaml
 from .exceptions import ConfigError
 
-#: section name -> (module, dataclass name). The YAML file is config/<section>.yaml.
-SECTIONS: dict[str, tuple[str, str]] = {
+#: The one registry of parameter sets: section name -> (module, dataclass name). The YAML
+#: file is config/<section>.yaml; the module is imported only when the section is loaded.
+SECTIONS: Mapping[str, tuple[str, str]] = MappingProxyType({
     "scene_filter": ("grasp_pipeline.perception.config", "SceneFilterConfig"),
     "obb": ("grasp_pipeline.perception.config", "ObbConfig"),
     "camera": ("grasp_pipeline.sim.config", "CameraConfig"),
     "sim": ("grasp_pipeline.sim.config", "SimConfig"),
     "motion": ("grasp_pipeline.motion.config", "MotionConfig"),
-}
-
-
-def register_section(name: str, module: str, cls_name: str) -> None:
-    """Add a parameter set (used by packages that define their own section)."""
-    SECTIONS[name] = (module, cls_name)
+    "scan": ("grasp_pipeline.orchestration.config", "ScanConfig"),
+    "grasp": ("grasp_pipeline.orchestration.config", "GraspConfig"),
+})
 
 
 def section_class(name: str) -> type:
@@ -96,6 +95,10 @@ def load_settings(sections: Iterable[str], config_file: str | None = None,
             cls = section_class(sec)  # unknown section -> error
             if not isinstance(values, dict):
                 raise ConfigError(f"{config_file}: section {sec!r} must be a mapping of name: value")
+            unknown = sorted(set(values) - {f.name for f in dataclasses.fields(cls)})
+            if unknown:
+                raise ConfigError(f"{config_file}: unknown parameter(s) {', '.join(unknown)} in section "
+                                  f"{sec!r}; known: {', '.join(sorted(f.name for f in dataclasses.fields(cls)))}")
             if sec in overrides:
                 overrides[sec].update(values)
             else:  # not used by this command: still validate the names and values

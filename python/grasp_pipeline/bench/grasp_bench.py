@@ -27,7 +27,6 @@ Scoring uses ground truth (the scene spec and ``report[...]["scores"]``): evalua
 
 from __future__ import annotations
 
-import json
 import logging
 import math
 import os
@@ -38,6 +37,8 @@ import traceback
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Iterable, Optional
+
+from ..report.serialize import check_writable, write_json
 
 log = logging.getLogger(__name__)
 
@@ -162,24 +163,18 @@ def _pick_failure(p: dict) -> tuple[str, str]:
     return "UNKNOWN", str(p.get("message") or "no success and no failed stage reported")
 
 
-def scene_record(index: int, seed: int, objects: list[dict], report: Optional[dict],
-                 error: Optional[str] = None, wall_s: Optional[float] = None) -> dict:
-    """The compact per-scene record: scene facts, per-object outcome and errors, picks.
-
-    ``objects``: the scene's true objects (name, kind, size_m, position_m) from the spec;
-    ``report``: what :func:`run_pipeline` returned (None when it raised); ``error``: the
-    exception text when it raised.
-    """
-    report = report or {}
+def _record_timings(report: dict, wall_s: Optional[float]) -> dict:
+    """The report's stage timings as floats, with ``wall_s`` added when the report has none."""
     timings = {k: float(v) for k, v in (report.get("timings") or {}).items()}
     if wall_s is not None and "wall_s" not in timings:
         timings["wall_s"] = float(wall_s)
-    rough = {r.get("object"): r for r in _score_rows(report.get("rough"))}
-    nadir = {r.get("object"): r for r in _score_rows(report.get("scan"))}
-    picks_in = list(report.get("picks") or [])
+    return timings
 
-    # Attribute every pick row to a true object: its own ground-truth name when it reached the
-    # grasp action, else the object nearest to its anchor (a selection that failed).
+
+def _pick_rows(picks_in: list[dict], objects: list[dict]) -> list[dict]:
+    """The compact pick rows, each attributed to a true object: its own ground-truth name when
+    it reached the grasp action, else the object nearest to its anchor (a selection that
+    failed)."""
     picks: list[dict[str, Any]] = []
     for p in picks_in:
         name = p.get("object") or _nearest_object(objects, p.get("anchor"))
@@ -192,37 +187,61 @@ def scene_record(index: int, seed: int, objects: list[dict], report: Optional[di
             stage, msg = _pick_failure(p)
             prow.update(stage=stage, reason=reason_category(msg), message=msg)
         picks.append(prow)
+    return picks
 
+
+def _unpicked_cause(name: str, mine: list[dict], rough: dict, nadir: dict, report: dict,
+                    error: Optional[str]) -> tuple[str, str, str]:
+    """(stage, reason, message) of an object that was not picked into the tray: its first
+    failed pick, else the scene's exception, the run's error, or how far perception got."""
+    failed = [p for p in mine if not p["success"]]
+    if failed:
+        return failed[0]["stage"], failed[0]["reason"], failed[0]["message"]
+    if error is not None:
+        return "SCENE", exception_category(error), error
+    if report.get("error"):
+        return "PLANE", reason_category(report["error"]), report["error"]
+    if name not in nadir and name not in rough:
+        return "NOT_ATTEMPTED", "no pick (run ended early)", "no pick"
+    if (nadir.get(name) or rough.get(name) or {}).get("tid") is None:
+        return "DETECT", "not detected", "no track matched the object"
+    return ("NOT_ATTEMPTED", "tracked but no pick aimed at it",
+            "a track matched the object but no pick was attributed to it")
+
+
+def _object_row(o: dict, picks: list[dict], rough: dict, nadir: dict, report: dict,
+                error: Optional[str]) -> dict:
+    """The outcome and estimate errors of one true object ``o`` of the scene."""
+    name = o["name"]
+    mine = [p for p in picks if p["object"] == name]
+    nadir_row = _score_fields(nadir.get(name))
+    row: dict[str, Any] = {"name": name, "kind": o["kind"],
+           "width_mm": round(1e3 * min(o["size_m"][0], o["size_m"][1]), 2),
+           "height_mm": round(1e3 * o["size_m"][2], 2),
+           "picked": any(p["success"] for p in mine), "attempts": len(mine),
+           "nadir": bool(nadir_row and nadir_row["quality"] == "NADIR"),
+           "rough_errors": _score_fields(rough.get(name)), "nadir_errors": nadir_row}
+    if not row["picked"]:
+        stage, reason, msg = _unpicked_cause(name, mine, rough, nadir, report, error)
+        row.update(stage=stage, reason=reason, message=msg)
+    return row
+
+
+def scene_record(index: int, seed: int, objects: list[dict], report: Optional[dict],
+                 error: Optional[str] = None, wall_s: Optional[float] = None) -> dict:
+    """The compact per-scene record: scene facts, per-object outcome and errors, picks.
+
+    ``objects``: the scene's true objects (name, kind, size_m, position_m) from the spec;
+    ``report``: what :func:`run_pipeline` returned (None when it raised); ``error``: the
+    exception text when it raised.
+    """
+    report = report or {}
+    timings = _record_timings(report, wall_s)
+    rough = {r.get("object"): r for r in _score_rows(report.get("rough"))}
+    nadir = {r.get("object"): r for r in _score_rows(report.get("scan"))}
+    picks = _pick_rows(list(report.get("picks") or []), objects)
     scan = report.get("scan") or {}
-    obj_rows: list[dict[str, Any]] = []
-    for o in objects:
-        name = o["name"]
-        mine = [p for p in picks if p["object"] == name]
-        nadir_row = _score_fields(nadir.get(name))
-        row: dict[str, Any] = {"name": name, "kind": o["kind"],
-               "width_mm": round(1e3 * min(o["size_m"][0], o["size_m"][1]), 2),
-               "height_mm": round(1e3 * o["size_m"][2], 2),
-               "picked": any(p["success"] for p in mine), "attempts": len(mine),
-               "nadir": bool(nadir_row and nadir_row["quality"] == "NADIR"),
-               "rough_errors": _score_fields(rough.get(name)), "nadir_errors": nadir_row}
-        if not row["picked"]:
-            failed = [p for p in mine if not p["success"]]
-            if failed:
-                stage, reason, msg = failed[0]["stage"], failed[0]["reason"], failed[0]["message"]
-            elif error is not None:
-                stage, reason, msg = "SCENE", exception_category(error), error
-            elif report.get("error"):
-                stage, reason, msg = "PLANE", reason_category(report["error"]), report["error"]
-            elif name not in nadir and name not in rough:
-                stage, reason, msg = "NOT_ATTEMPTED", "no pick (run ended early)", "no pick"
-            elif (nadir.get(name) or rough.get(name) or {}).get("tid") is None:
-                stage, reason, msg = "DETECT", "not detected", "no track matched the object"
-            else:
-                stage, reason, msg = ("NOT_ATTEMPTED", "tracked but no pick aimed at it",
-                                      "a track matched the object but no pick was attributed to it")
-            row.update(stage=stage, reason=reason, message=msg)
-        obj_rows.append(row)
-
+    obj_rows = [_object_row(o, picks, rough, nadir, report, error) for o in objects]
     rec = {"index": index, "seed": seed, "objects": len(objects),
            "picks": sum(r["picked"] for r in obj_rows), "error": error,
            "run_error": report.get("error"),
@@ -232,44 +251,54 @@ def scene_record(index: int, seed: int, objects: list[dict], report: Optional[di
     return rec
 
 
-def _object_count(seed: int) -> int:
+def scene_settings(overrides: tuple = (None, ())):
+    """The run's parameter sets with ``(config_file, sets)`` overrides (``--config``/``--set``)."""
+    from ..app.sim_system import SECTIONS
+    from ..settings import load_settings
+
+    config_file, sets = overrides
+    return load_settings(SECTIONS, config_file, list(sets))
+
+
+def _object_count(seed: int, overrides: tuple = (None, ())) -> int:
     try:
-        return len(_spec_objects(seed))
+        return len(_spec_objects(seed, overrides))
     except Exception:  # (the scene process will record the error)
         return 0
 
 
-def _spec_objects(seed: int) -> list[dict]:
+def _spec_objects(seed: int, overrides: tuple = (None, ())) -> list[dict]:
     from ..sim.scenes import random_scene
 
-    spec = random_scene(seed)
+    spec = random_scene(seed, config=scene_settings(overrides).sim)
     return [{"name": o.name, "kind": o.kind, "size_m": [float(x) for x in o.size_m],
              "position_m": [float(x) for x in o.position_m]} for o in spec.objects]
 
 
-def run_scene(index: int, seed: int, out_dir: str | Path) -> dict:
+def run_scene(index: int, seed: int, out_dir: str | Path, overrides: tuple = (None, ())) -> dict:
     """One benchmark scene in this process: never raises (errors become the record)."""
     t0 = time.perf_counter()
     objects: list[dict] = []
     try:
-        objects = _spec_objects(seed)
-        from ..orchestration.run import run_pipeline
+        objects = _spec_objects(seed, overrides)
+        from ..app.run import run_pipeline
 
         out = Path(out_dir)
         report = run_pipeline(scene="random", seed=seed, out_dir=out, json_path=out / "report.json",
-                              video=False)
-        return scene_record(index, seed, objects, report)
+                              video=False, settings=scene_settings(overrides))
+        return scene_record(index, seed, objects, report.to_dict())
     except Exception as exc:  # any failure of the scene is a result, not a crash
         text = f"{type(exc).__name__}: {exc}"
         log.error("scene %d (seed %d) raised %s\n%s", index, seed, text, traceback.format_exc())
         return scene_record(index, seed, objects, None, error=text, wall_s=time.perf_counter() - t0)
 
 
-def _child_main(conn, index: int, seed: int, out_dir: str, log_level: int) -> None:
+def _child_main(conn, index: int, seed: int, out_dir: str, log_level: int,
+                overrides: tuple = (None, ())) -> None:
     """Entry point of a spawned scene process: run the scene, send the record, exit."""
     logging.basicConfig(level=log_level, format=f"%(asctime)s %(levelname)s [scene {index}] %(name)s: %(message)s")
     try:
-        rec = run_scene(index, seed, out_dir)
+        rec = run_scene(index, seed, out_dir, overrides)
     except BaseException as exc:  # (run_scene catches Exception; this is e.g. SystemExit)
         rec = scene_record(index, seed, [], None, error=f"{type(exc).__name__}: {exc}")
     conn.send(rec)
@@ -293,95 +322,137 @@ def _child_environment(extra: dict):
 
 
 def _worker_env() -> dict:
-    from ..sim import GL_BACKEND  # chooses MUJOCO_GL in this process (probes once) if unset
+    from ..sim.gl_backend import configure_gl  # chooses MUJOCO_GL here (probes once) if unset
 
     env = dict(SINGLE_THREAD_ENV)
-    env["MUJOCO_GL"] = os.environ.get("MUJOCO_GL") or GL_BACKEND or "egl"
+    env["MUJOCO_GL"] = configure_gl() or os.environ.get("MUJOCO_GL") or "disable"
     # PYTHONPATH is inherited with the rest of the environment, and the "spawn" start method
     # also hands the parent's sys.path to the children.
     return env
 
 
+class _SceneScheduler:
+    """The running scene processes of :func:`_run_scenes` and their bookkeeping.
+
+    ``running`` maps each process's sentinel to ``(proc, conn, task, t0)``: the process, the
+    read end of its result pipe, its ``(index, seed, out_dir)`` task and its start time.
+    Finished scenes are appended to ``results`` and counted on the progress bar.
+    """
+
+    def __init__(self, ctx, scene_timeout_s: float, overrides: tuple, bar):
+        self.ctx = ctx
+        self.scene_timeout_s = scene_timeout_s
+        self.overrides = overrides
+        self.bar = bar
+        self.running: dict = {}  # sentinel -> (proc, conn, task, t0)
+        self.results: list[dict] = []
+        self.n_obj = self.n_pick = 0
+        self.level = logging.getLogger().getEffectiveLevel()
+        self.env = _worker_env()
+
+    def start(self, task: tuple[int, int, str]) -> None:
+        """Spawn the process of one scene (with the worker environment)."""
+        index, seed, out_dir = task
+        recv, send = self.ctx.Pipe(duplex=False)
+        proc = self.ctx.Process(target=_child_main,
+                                args=(send, index, seed, out_dir, self.level, self.overrides),
+                                name=f"bench-scene-{index}", daemon=True)
+        with _child_environment(self.env):
+            proc.start()
+        send.close()  # the child holds the only writer: EOF when it dies
+        self.running[proc.sentinel] = (proc, recv, (index, seed, out_dir), time.perf_counter())
+
+    def finish(self, sentinel, rec: dict) -> None:
+        """Retire a running scene with its record."""
+        proc, conn, _task, _t0 = self.running.pop(sentinel)
+        conn.close()
+        proc.join(timeout=10)
+        self.results.append(rec)
+        self.n_obj += rec["objects"]
+        self.n_pick += rec["picks"]
+        self.bar.set_postfix_str(f"picked {self.n_pick}/{self.n_obj}")
+        self.bar.update(1)
+
+    def collect_ready(self) -> None:
+        """Wait until a scene sends its record or exits, or the next deadline passes; retire
+        the scenes that are done (a child that exited without a result is a failed scene)."""
+        from multiprocessing.connection import wait
+
+        now = time.perf_counter()
+        next_deadline = min(t0 + self.scene_timeout_s for (_p, _c, _t, t0) in self.running.values())
+        by_obj = {}
+        for sentinel, (_p, conn, _t, _t0) in self.running.items():
+            by_obj[sentinel] = sentinel
+            by_obj[conn] = sentinel
+        ready = wait(list(by_obj), timeout=max(0.0, next_deadline - now) + 0.05)
+        for obj in ready:
+            sentinel = by_obj[obj]
+            if sentinel not in self.running:
+                continue  # (its conn and sentinel were both ready)
+            rec = self._result_of(sentinel)
+            if rec is not None:
+                self.finish(sentinel, rec)
+
+    def _result_of(self, sentinel) -> Optional[dict]:
+        """The record of a ready scene: what it sent, a failed record when its process exited
+        without one, None when it is still running."""
+        proc, conn, (index, seed, _d), t0 = self.running[sentinel]
+        rec = None
+        try:
+            if conn.poll():
+                rec = conn.recv()
+        except (EOFError, OSError):
+            rec = None
+        if rec is None:
+            proc.join(timeout=30)  # no result: the child closed its end or exited
+            if proc.exitcode is None:
+                return None
+            err = (f"WorkerDied: the scene process exited with code {proc.exitcode} "
+                   f"without a result")
+            log.error("scene %d (seed %d): %s", index, seed, err)
+            rec = _failed_record(index, seed, err, time.perf_counter() - t0)
+        return rec
+
+    def kill_overdue(self) -> None:
+        """Kill the scenes that exceeded ``scene_timeout_s`` and record them as failed."""
+        now = time.perf_counter()
+        for sentinel, (proc, conn, (index, seed, _d), t0) in list(self.running.items()):
+            if now - t0 > self.scene_timeout_s:
+                proc.kill()
+                err = f"SceneTimeout: the scene took longer than {self.scene_timeout_s:.0f} s wall time"
+                log.error("scene %d (seed %d): %s", index, seed, err)
+                self.finish(sentinel, _failed_record(index, seed, err, now - t0))
+
+    def kill_all(self) -> None:
+        """Kill whatever is still running (on the way out, also after an exception)."""
+        for proc, conn, _task, _t0 in self.running.values():
+            proc.kill()
+            proc.join(timeout=10)
+            conn.close()
+
+
 def _run_scenes(tasks: list[tuple[int, int, str]], workers: int, scene_timeout_s: float,
-                progress: bool) -> list[dict]:
+                progress: bool, overrides: tuple = (None, ())) -> list[dict]:
     """Run ``(index, seed, out_dir)`` tasks in spawned processes, ``workers`` at a time."""
     import multiprocessing as mp
-    from multiprocessing.connection import wait
 
     from tqdm import tqdm
 
     ctx = mp.get_context("spawn")
     pending = list(tasks)
-    running: dict = {}  # sentinel -> (proc, conn, task, t0)
-    results: list[dict] = []
     bar = tqdm(total=len(tasks), unit="scene", desc="bench grasp", disable=not progress,
                file=sys.stderr, dynamic_ncols=True)
-    n_obj = n_pick = 0
-    level = logging.getLogger().getEffectiveLevel()
-    env = _worker_env()
-
-    def finish(sentinel, rec):
-        nonlocal n_obj, n_pick
-        proc, conn, _task, _t0 = running.pop(sentinel)
-        conn.close()
-        proc.join(timeout=10)
-        results.append(rec)
-        n_obj += rec["objects"]
-        n_pick += rec["picks"]
-        bar.set_postfix_str(f"picked {n_pick}/{n_obj}")
-        bar.update(1)
-
+    sched = _SceneScheduler(ctx, scene_timeout_s, overrides, bar)
     try:
-        while pending or running:
-            while pending and len(running) < workers:
-                index, seed, out_dir = pending.pop(0)
-                recv, send = ctx.Pipe(duplex=False)
-                proc = ctx.Process(target=_child_main, args=(send, index, seed, out_dir, level),
-                                   name=f"bench-scene-{index}", daemon=True)
-                with _child_environment(env):
-                    proc.start()
-                send.close()  # the child holds the only writer: EOF when it dies
-                running[proc.sentinel] = (proc, recv, (index, seed, out_dir), time.perf_counter())
-            now = time.perf_counter()
-            next_deadline = min(t0 + scene_timeout_s for (_p, _c, _t, t0) in running.values())
-            by_obj = {}
-            for sentinel, (_p, conn, _t, _t0) in running.items():
-                by_obj[sentinel] = sentinel
-                by_obj[conn] = sentinel
-            ready = wait(list(by_obj), timeout=max(0.0, next_deadline - now) + 0.05)
-            for obj in ready:
-                sentinel = by_obj[obj]
-                if sentinel not in running:
-                    continue  # (its conn and sentinel were both ready)
-                proc, conn, (index, seed, _d), t0 = running[sentinel]
-                rec = None
-                try:
-                    if conn.poll():
-                        rec = conn.recv()
-                except (EOFError, OSError):
-                    rec = None
-                if rec is None:
-                    proc.join(timeout=30)  # no result: the child closed its end or exited
-                    if proc.exitcode is None:
-                        continue
-                    err = (f"WorkerDied: the scene process exited with code {proc.exitcode} "
-                           f"without a result")
-                    log.error("scene %d (seed %d): %s", index, seed, err)
-                    rec = _failed_record(index, seed, err, time.perf_counter() - t0)
-                finish(sentinel, rec)
-            now = time.perf_counter()
-            for sentinel, (proc, conn, (index, seed, _d), t0) in list(running.items()):
-                if now - t0 > scene_timeout_s:
-                    proc.kill()
-                    err = f"SceneTimeout: the scene took longer than {scene_timeout_s:.0f} s wall time"
-                    log.error("scene %d (seed %d): %s", index, seed, err)
-                    finish(sentinel, _failed_record(index, seed, err, now - t0))
+        while pending or sched.running:
+            while pending and len(sched.running) < workers:
+                sched.start(pending.pop(0))
+            sched.collect_ready()
+            sched.kill_overdue()
     finally:
-        for proc, conn, _task, _t0 in running.values():
-            proc.kill()
-            proc.join(timeout=10)
-            conn.close()
+        sched.kill_all()
         bar.close()
+    results = sched.results
     results.sort(key=lambda r: r["index"])
     return results
 
@@ -451,14 +522,8 @@ def _group_success(rows: list[dict], key) -> dict:
     return dict(sorted(groups.items()))
 
 
-def aggregate(records: list[dict], seed: int, workers: int, wall_time_s: float,
-              extra: Optional[dict] = None) -> dict:
-    """The benchmark JSON from the per-scene records (sorted by scene index)."""
-    records = sorted(records, key=lambda r: r["index"])
-    objs = [o for r in records for o in r["object_rows"]]
-    n_obj = len(objs)
-    n_pick = sum(o["picked"] for o in objs)
-
+def _failures_by_stage(objs: list[dict]) -> dict:
+    """The objects not picked, by stage (pipeline order) and reason (most frequent first)."""
     failures: dict = {}
     for o in objs:
         if o["picked"]:
@@ -467,19 +532,25 @@ def aggregate(records: list[dict], seed: int, workers: int, wall_time_s: float,
         f["count"] += 1
         f["reasons"][o["reason"]] = f["reasons"].get(o["reason"], 0) + 1
     order = {s: i for i, s in enumerate(STAGE_ORDER)}
-    failures = {s: {"count": failures[s]["count"], "reasons": dict(sorted(
+    return {s: {"count": failures[s]["count"], "reasons": dict(sorted(
         failures[s]["reasons"].items(), key=lambda kv: (-kv[1], kv[0])))}
         for s in sorted(failures, key=lambda s: (order.get(s, len(order)), s))}
 
-    # scan failures (the scan's own message; the objects may still be picked)
+
+def _scan_failures(records: list[dict]) -> dict:
+    """Scenes by scan failure category (the scan's own message; the objects may still be
+    picked)."""
     scan_fail: dict = {}
     for r in records:
         msg = (r.get("scan") or {}).get("failure")
         if msg:
             cat = reason_category(msg)
             scan_fail[cat] = scan_fail.get(cat, 0) + 1
+    return dict(sorted(scan_fail.items()))
 
-    # the improvement the scan buys: the same objects, oblique (rough view) vs NADIR
+
+def _scan_improvement(objs: list[dict]) -> dict:
+    """The improvement the scan buys: the same objects, oblique (rough view) vs NADIR."""
     paired = [o for o in objs if o.get("rough_errors") and o.get("nadir_errors")
               and o["nadir_errors"].get("quality") == "NADIR"]
     improvement: dict[str, Any] = {"objects": len(paired)}
@@ -488,17 +559,15 @@ def aggregate(records: list[dict], seed: int, workers: int, wall_time_s: float,
         improvement[name] = {"oblique_median": stats(o["rough_errors"][field] for o in sel)["median"],
                              "nadir_median": stats(o["nadir_errors"][field] for o in sel)["median"],
                              "n": len(sel)}
+    return improvement
 
-    stage_keys = sorted({k for r in records for k in r["timings"]})
-    scene_wall = [r["timings"].get("wall_s") for r in records]
-    per_object = [r["timings"]["wall_s"] / r["objects"] for r in records
-                  if r["objects"] and r["timings"].get("wall_s") is not None]
-    n_scenes = len(records)
-    out = {
-        "benchmark": "grasp",
-        "seed": int(seed),
-        "scene_seed_rule": "numpy SeedSequence(entropy=seed, spawn_key=(index,)) -> uint32 >> 1",
-        "scenes": n_scenes,
+
+def _outcome_figures(records: list[dict], objs: list[dict]) -> dict:
+    """Scene, object and pick counts and rates, and the failures by stage."""
+    n_obj = len(objs)
+    n_pick = sum(o["picked"] for o in objs)
+    return {
+        "scenes": len(records),
         "scenes_failed": sum(1 for r in records if r.get("error")),
         "objects": n_obj,
         "picked": n_pick,
@@ -508,30 +577,71 @@ def aggregate(records: list[dict], seed: int, workers: int, wall_time_s: float,
         "false_successes": sum(1 for r in records for p in r["pick_rows"]
                                if p["reported_success"] and not p["success"]),
         "failures": n_obj - n_pick,
-        "failures_by_stage": failures,
-        "scan_success_rate": _rate(sum(o["nadir"] for o in objs), n_obj),
-        "scan_failures": dict(sorted(scan_fail.items())),
+        "failures_by_stage": _failures_by_stage(objs),
+    }
+
+
+def _perception_figures(records: list[dict], objs: list[dict]) -> dict:
+    """Scan success, estimate accuracy (NADIR and oblique) and what the scan improves."""
+    return {
+        "scan_success_rate": _rate(sum(o["nadir"] for o in objs), len(objs)),
+        "scan_failures": _scan_failures(records),
         "accuracy": _accuracy(objs, "nadir_errors", nadir_only=True),
         "accuracy_oblique": _accuracy(objs, "rough_errors", nadir_only=False),
-        "scan_improvement": improvement,
+        "scan_improvement": _scan_improvement(objs),
+    }
+
+
+def _success_groups(records: list[dict], objs: list[dict]) -> dict:
+    """Pick success by object kind, by width bin and by the number of objects in the scene."""
+    return {
         "success_by_kind": _group_success(objs, lambda o: o["kind"]),
         "success_by_width_mm": _group_success(objs, lambda o: _size_bin(o["width_mm"])),
         "success_by_scene_objects": _group_success(
             [dict(o, n=r["objects"]) for r in records for o in r["object_rows"]], lambda o: str(o["n"])),
+    }
+
+
+def _timing_figures(records: list[dict], wall_time_s: float) -> dict:
+    """Time per scene, per object and per stage, the wall time and the throughput."""
+    stage_keys = sorted({k for r in records for k in r["timings"]})
+    scene_wall = [r["timings"].get("wall_s") for r in records]
+    per_object = [r["timings"]["wall_s"] / r["objects"] for r in records
+                  if r["objects"] and r["timings"].get("wall_s") is not None]
+    return {
         "time_per_scene_s": stats(scene_wall),
         "time_per_object_s": stats(per_object),
         "time_per_stage_s": {k: stats(r["timings"].get(k) for r in records) for k in stage_keys},
         "wall_time_s": round(float(wall_time_s), 3),
-        "scenes_per_minute": None if wall_time_s <= 0 else round(60.0 * n_scenes / wall_time_s, 4),
+        "scenes_per_minute": None if wall_time_s <= 0 else round(60.0 * len(records) / wall_time_s, 4),
+    }
+
+
+def _scene_row(r: dict) -> dict:
+    """The JSON row of one scene record: its errors (scene, run, unpicked objects) listed."""
+    return {"index": r["index"], "seed": r["seed"], "objects": r["objects"], "picks": r["picks"],
+            "errors": ([r["error"]] if r.get("error") else [])
+            + ([r["run_error"]] if r.get("run_error") else [])
+            + [f"{o['name']}: {o['stage']}: {o['message']}" for o in r["object_rows"] if not o["picked"]],
+            "scan": r.get("scan"), "timings": r["timings"],
+            "object_rows": r["object_rows"], "pick_rows": r["pick_rows"]}
+
+
+def aggregate(records: list[dict], seed: int, workers: int, wall_time_s: float,
+              extra: Optional[dict] = None) -> dict:
+    """The benchmark JSON from the per-scene records (sorted by scene index)."""
+    records = sorted(records, key=lambda r: r["index"])
+    objs = [o for r in records for o in r["object_rows"]]
+    out = {
+        "benchmark": "grasp",
+        "seed": int(seed),
+        "scene_seed_rule": "numpy SeedSequence(entropy=seed, spawn_key=(index,)) -> uint32 >> 1",
+        **_outcome_figures(records, objs),
+        **_perception_figures(records, objs),
+        **_success_groups(records, objs),
+        **_timing_figures(records, wall_time_s),
         "workers": int(workers),
-        "scene_rows": [
-            {"index": r["index"], "seed": r["seed"], "objects": r["objects"], "picks": r["picks"],
-             "errors": ([r["error"]] if r.get("error") else [])
-             + ([r["run_error"]] if r.get("run_error") else [])
-             + [f"{o['name']}: {o['stage']}: {o['message']}" for o in r["object_rows"] if not o["picked"]],
-             "scan": r.get("scan"), "timings": r["timings"],
-             "object_rows": r["object_rows"], "pick_rows": r["pick_rows"]}
-            for r in records],
+        "scene_rows": [_scene_row(r) for r in records],
     }
     out["targets"] = _targets(out)
     if extra:
@@ -563,8 +673,11 @@ def strip_timings(result: dict) -> dict:
 # ------------------------------------------------------------------------------ entry point
 def run_grasp_benchmark(scenes: int, seed: int = 0, workers: int = 1, json_path: str | Path | None = None,
                         out_dir: str | Path = "out/bench_grasp", progress: bool = True,
-                        scene_timeout_s: float = DEFAULT_SCENE_TIMEOUT_S) -> dict:
-    """Run the benchmark; write the JSON (``json_path``), ``OUT/summary.md`` and plots."""
+                        scene_timeout_s: float = DEFAULT_SCENE_TIMEOUT_S,
+                        overrides: tuple = (None, ())) -> dict:
+    """Run the benchmark; write the JSON (``json_path``), ``OUT/summary.md`` and plots.
+
+    ``overrides``: ``(config_file, [name=value, ...])`` applied to every scene's settings."""
     if scenes < 1:
         raise ValueError(f"scenes must be >= 1, got {scenes}")
     if workers < 1:
@@ -575,12 +688,15 @@ def run_grasp_benchmark(scenes: int, seed: int = 0, workers: int = 1, json_path:
              for i in range(scenes)]
     # Longest first (the time of a scene grows with its objects): the last scenes to finish are
     # short ones, so W workers stay busy to the end. Results are sorted by index afterwards.
-    tasks.sort(key=lambda t: (-_object_count(t[1]), t[0]))
+    scene_settings(overrides)  # bad overrides fail here, before any scene starts
+    if json_path is not None:
+        check_writable(json_path, "benchmark JSON (--json)")
+    tasks.sort(key=lambda t: (-_object_count(t[1], overrides), t[0]))
     workers_used = min(workers, scenes)
     if workers_used > (os.cpu_count() or 1):
         log.warning("%d workers on %s cores: scenes will compete for CPU", workers_used, os.cpu_count())
     t0 = time.perf_counter()
-    records = _run_scenes(tasks, workers_used, scene_timeout_s, progress)
+    records = _run_scenes(tasks, workers_used, scene_timeout_s, progress, overrides)
     wall = time.perf_counter() - t0
     env = _worker_env()
     result = aggregate(records, seed, workers_used, wall,
@@ -594,8 +710,7 @@ def run_grasp_benchmark(scenes: int, seed: int = 0, workers: int = 1, json_path:
     result["summary"] = str(summary)
     result["scene_rows"] = result.pop("scene_rows")
     if json_path is not None:
-        Path(json_path).parent.mkdir(parents=True, exist_ok=True)
-        Path(json_path).write_text(json.dumps(result, indent=2, sort_keys=False, allow_nan=False))
+        write_json(json_path, result)
     return result
 
 

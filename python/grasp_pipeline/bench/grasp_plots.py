@@ -271,14 +271,18 @@ def _table(header: list[str], rows: list[list]) -> list[str]:
     return out + [""]
 
 
-def summary_markdown(result: dict, json_path: Optional[str | Path] = None) -> str:
-    r = result
+def _md_intro(r: dict, json_path: Optional[str | Path]) -> list[str]:
+    """Title and the paragraph saying what a scene runs."""
     L = [f"# Grasp benchmark — {r['scenes']} scenes, seed {r['seed']}", ""]
     L += [f"Every scene: rough view, active scan, pick every object into the tray "
           f"(`run_pipeline(scene=\"random\", seed=<scene seed>)`). Ground truth is used for scoring only. "
           f"{r['workers']} worker process(es), MuJoCo GL `{r.get('mujoco_gl', '?')}`."
           + (f" Full figures: `{json_path}`." if json_path else ""), ""]
-    L += ["## Headline", ""]
+    return L
+
+
+def _md_headline(r: dict) -> list[str]:
+    L = ["## Headline", ""]
     L += _table(["figure", "value"], [
         ["scenes (raised)", f"{r['scenes']} ({r['scenes_failed']})"],
         ["objects", r["objects"]],
@@ -292,12 +296,21 @@ def summary_markdown(result: dict, json_path: Optional[str | Path] = None) -> st
         ["wall time", f"{r['wall_time_s']:.1f} s"],
         ["throughput", f"{_fmt(r['scenes_per_minute'], 2)} scenes/min"],
     ])
-    L += ["## Targets", ""]
+    return L
+
+
+def _md_targets(r: dict) -> list[str]:
+    L = ["## Targets", ""]
     L += _table(["target", "value", "required", "met"], [
         [k, _fmt(v["value"], 3), v["target"], {True: "yes", False: "**no**", None: "n/a"}[v["met"]]]
         for k, v in r.get("targets", {}).items()])
-    L += ["## What the scan buys: oblique (rough view) vs NADIR (after the scan)", "",
-          f"Same {r['scan_improvement']['objects']} objects (those with both estimates); medians.", ""]
+    return L
+
+
+def _md_scan_improvement(r: dict) -> list[str]:
+    """Oblique vs NADIR medians on the objects that have both estimates."""
+    L = ["## What the scan buys: oblique (rough view) vs NADIR (after the scan)", "",
+         f"Same {r['scan_improvement']['objects']} objects (those with both estimates); medians.", ""]
     rows = []
     for metric, label, _t in ERROR_PANELS:
         s = r["scan_improvement"][metric]
@@ -305,7 +318,11 @@ def summary_markdown(result: dict, json_path: Optional[str | Path] = None) -> st
         gain = "n/a" if o is None or n is None or n <= 0 else f"{o / n:.1f}×"
         rows.append([label, _fmt(o), _fmt(n), gain])
     L += _table(["error", "oblique", "NADIR", "oblique / NADIR"], rows)
-    L += ["## Accuracy (all objects)", ""]
+    return L
+
+
+def _md_accuracy(r: dict) -> list[str]:
+    L = ["## Accuracy (all objects)", ""]
     rows = []
     for metric, label, _t in ERROR_PANELS:
         a, b = r["accuracy"][metric], r["accuracy_oblique"][metric]
@@ -316,7 +333,11 @@ def summary_markdown(result: dict, json_path: Optional[str | Path] = None) -> st
           "SPEC 2.3; their width is compared with the side the estimate closes on), modulo 180° "
           "for the other cuboids.", ""]
     L += ["![estimate errors](errors.png)", ""]
-    L += ["## Failures", ""]
+    return L
+
+
+def _md_failures(r: dict) -> list[str]:
+    L = ["## Failures", ""]
     if r["failures_by_stage"]:
         L += _table(["stage", "reason", "objects"],
                     [[s, reason, n] for s, f in r["failures_by_stage"].items() for reason, n in f["reasons"].items()])
@@ -326,22 +347,43 @@ def summary_markdown(result: dict, json_path: Optional[str | Path] = None) -> st
         L += ["Scan failures (the objects may still have been picked):", ""]
         L += _table(["scan failure", "scenes"], [[k, v] for k, v in r["scan_failures"].items()])
     L += ["![failures](failures.png)", ""]
-    L += ["## Success by object type and size", ""]
+    return L
+
+
+def _md_success(r: dict) -> list[str]:
+    L = ["## Success by object type and size", ""]
     L += _table(["group", "picked / objects", "success"],
                 [[f"type {k}", f"{g['picked']}/{g['objects']}", _pct(g["success_rate"])]
                  for k, g in r["success_by_kind"].items()]
                 + [[f"width {k} mm", f"{g['picked']}/{g['objects']}", _pct(g["success_rate"])]
                    for k, g in r["success_by_width_mm"].items()])
     L += ["![success](success.png)", ""]
-    L += ["## Time", ""]
+    return L
+
+
+def _md_time(r: dict) -> list[str]:
+    L = ["## Time", ""]
     L += _table(["stage", "median [s]", "p90 [s]", "mean [s]"],
                 [[k, _fmt(v["median"], 1), _fmt(v["p90"], 1), _fmt(v["mean"], 1)]
                  for k, v in r["time_per_stage_s"].items()])
     L += ["![timing](timing.png)", ""]
-    L += ["## Scenes", "", "Reproduce one: `grasp-pipeline run --scene random --seed <seed>`.", ""]
+    return L
+
+
+def _md_scenes(r: dict) -> list[str]:
+    L = ["## Scenes", "", "Reproduce one: `grasp-pipeline run --scene random --seed <seed>`.", ""]
     L += _table(["#", "seed", "objects", "picked", "time [s]", "errors"],
                 [[s["index"], s["seed"], s["objects"], s["picks"], _fmt(s["timings"].get("wall_s"), 1),
                   "; ".join(_short(e) for e in s["errors"]) or "—"] for s in r["scene_rows"]])
+    return L
+
+
+def summary_markdown(result: dict, json_path: Optional[str | Path] = None) -> str:
+    r = result
+    L = _md_intro(r, json_path)
+    for section in (_md_headline, _md_targets, _md_scan_improvement, _md_accuracy, _md_failures,
+                    _md_success, _md_time, _md_scenes):
+        L += section(r)
     return "\n".join(L)
 
 

@@ -26,8 +26,9 @@ from pathlib import Path
 
 import numpy as np
 
+from ..report.serialize import write_json
 from ..sim.config import load_sim_config
-from ..sim.robot_model import READY_Q
+from ..robot.description import READY_Q
 from ..sim.world import SimWorld
 
 log = logging.getLogger(__name__)
@@ -99,7 +100,7 @@ def run_sim_benchmark(seconds: float, json_path: str | Path | None) -> dict:
     }
     if json_path is not None:
         Path(json_path).parent.mkdir(parents=True, exist_ok=True)
-        Path(json_path).write_text(json.dumps(result, indent=2, sort_keys=True) + "\n")
+        write_json(json_path, result, sort_keys=True)
     log.info("sim benchmark: physics %.1fx real time, with %s camera %.2fx (%d frames)",
              result["physics_real_time_factor"], result["camera_backend"],
              result["real_time_factor"], result["frames"])

@@ -11,10 +11,10 @@ says whether they did, and lists the first differences when they did not.
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Any, Optional
 
+from ..report.serialize import write_json
 from .grasp_bench import run_grasp_benchmark, strip_timings
 
 #: The issue's target: ``--workers 2`` at least this much faster than ``--workers 1``.
@@ -41,7 +41,8 @@ def _differences(a: Any, b: Any, path: str = "", limit: int = 10) -> list[str]:
 
 def run_workers_benchmark(scenes: int, seed: int = 0, workers: int = 2,
                           json_path: Optional[str | Path] = None,
-                          out_dir: str | Path = "out/bench_workers", progress: bool = True) -> dict:
+                          out_dir: str | Path = "out/bench_workers", progress: bool = True,
+                          overrides: tuple = (None, ())) -> dict:
     """Run the grasp benchmark with 1 worker and with ``workers``; report the speed-up."""
     if workers < 2:
         raise ValueError(f"workers must be >= 2 to compare with 1 worker, got {workers}")
@@ -49,7 +50,7 @@ def run_workers_benchmark(scenes: int, seed: int = 0, workers: int = 2,
     runs = {}
     for w in (1, workers):
         runs[w] = run_grasp_benchmark(scenes=scenes, seed=seed, workers=w, json_path=out / f"w{w}.json",
-                                      out_dir=out / f"w{w}", progress=progress)
+                                      out_dir=out / f"w{w}", progress=progress, overrides=overrides)
     one, many = runs[1], runs[workers]
     same = strip_timings({k: v for k, v in one.items() if k not in ("workers", "workers_requested",
                                                                      "plots", "summary")})
@@ -74,6 +75,5 @@ def run_workers_benchmark(scenes: int, seed: int = 0, workers: int = 2,
         "success_rate": {"1": one["success_rate"], str(workers): many["success_rate"]},
     }
     if json_path is not None:
-        Path(json_path).parent.mkdir(parents=True, exist_ok=True)
-        Path(json_path).write_text(json.dumps(result, indent=2, allow_nan=False))
+        write_json(json_path, result)
     return result

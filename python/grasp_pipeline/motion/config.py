@@ -47,14 +47,10 @@ class MotionConfig:
     self_filter_padding_m: float = 0.02
     target_ignore_padding_m: float = 0.05
     floor_z_m: float = 0.0
-    default_finger_opening_m: float = 0.08
     # --- Cartesian segments --------------------------------------------------------------
     cartesian_step_m: float = 0.005
     cartesian_step_rad: float = 0.03
     cartesian_max_joint_step_rad: float = 0.1
-    # --- grasp motions (pre-grasp above the grasp, straight approach, straight lift) ----------
-    pregrasp_offset_m: float = 0.10
-    lift_height_m: float = 0.10
     # --- IK ----------------------------------------------------------------------------------
     ik_q7_samples: int = 36
     ik_refine_iterations: int = 30
@@ -101,7 +97,7 @@ class MotionConfig:
                      "ik_accept_orientation_rad", "ik_duplicate_tol_rad", "control_rate_hz",
                      "toppra_gridpoints", "timing_waypoint_step_rad", "tracking_error_limit_rad",
                      "settle_position_tol_rad", "settle_velocity_tol_rad_s", "settle_timeout_s",
-                     "default_finger_opening_m", "pregrasp_offset_m", "lift_height_m"):
+                     ):
             positive(name)
         for name in ("planner_range_rad", "collision_margin_m", "self_collision_margin_m",
                      "self_filter_padding_m", "target_ignore_padding_m", "ik_tolerance_m",

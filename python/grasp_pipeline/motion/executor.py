@@ -5,9 +5,12 @@
 ``monitor_every_steps`` physics steps:
 
 * tracking error ``max_j |q_ref_j - q_j| > tracking_error_limit_rad`` → stop;
-* an unexpected contact of a robot geom with the environment or a non-target object
-  (``SimWorld.robot_contacts()``; contacts with ``allowed_contact_prefixes`` — e.g. the
-  target object's geoms while grasping — are expected) → stop, when ``stop_on_contact``.
+* an unexpected contact (the robot's :class:`~grasp_pipeline.robot.protocols.ContactMonitor`
+  given the motion's :class:`~grasp_pipeline.robot.protocols.ContactAllowance` — e.g. the
+  fingers may touch objects while approaching) → stop, when ``stop_on_contact``.
+
+The robot is anything implementing the clock, arm and contact-monitor protocols
+(``SimWorld`` in the simulator).
 
 Stopping means holding the *current* joints (``world.hold()``): the arm is never left
 moving. After the trajectory's end the executor waits until every joint is within
@@ -25,6 +28,7 @@ import numpy as np
 
 from .config import MotionConfig
 from .exceptions import ExecutionError
+from ..robot.protocols import ContactAllowance
 from .trajectory import JointTrajectory
 
 log = logging.getLogger(__name__)
@@ -41,11 +45,12 @@ class ExecutionReport:
     max_tracking_error_rad: float = 0.0
     final_error_rad: float = 0.0
     settled: bool = False
-    contacts: list[tuple[str, str]] = field(default_factory=list)
+    contacts: list[str] = field(default_factory=list)
 
 
 class TrajectoryExecutor:
-    """Follows trajectories in a ``SimWorld`` with monitoring and a safe stop."""
+    """Follows trajectories on a robot (clock + arm + contact monitor) with monitoring and a
+    safe stop."""
 
     def __init__(self, world, config: MotionConfig) -> None:
         self.world = world
@@ -58,26 +63,21 @@ class TrajectoryExecutor:
         raise ExecutionError(f"execution stopped: {message}; the arm holds its current position",
                              reason=reason, time_s=t)
 
-    def _unexpected(self, contacts: list[tuple[str, str]], allowed: tuple[str, ...],
-                    contact_ok=None) -> list[tuple[str, str]]:
-        return [c for c in contacts if not any(c[1].startswith(p) for p in allowed)
-                and not (contact_ok is not None and contact_ok(c[0], c[1]))]
-
-    def execute(self, traj: JointTrajectory, allowed_contact_prefixes: tuple[str, ...] = (),
-                wait_settled: bool = True, contact_ok=None) -> ExecutionReport:
+    def execute(self, traj: JointTrajectory, allowance: ContactAllowance = ContactAllowance.NONE,
+                wait_settled: bool = True) -> ExecutionReport:
         """Run ``traj`` to completion (blocking in simulated time); see the module doc.
 
-        ``contact_ok(robot_geom, other_geom) -> bool`` marks further expected contacts
-        (e.g. the finger pads on the object being grasped)."""
-        steps = self.execute_steps(traj, allowed_contact_prefixes, wait_settled, contact_ok)
+        ``allowance``: which contacts this motion expects (e.g. ``FINGERS`` on the object
+        being grasped)."""
+        steps = self.execute_steps(traj, allowance, wait_settled)
         while True:
             try:
                 next(steps)
             except StopIteration as done:
                 return done.value
 
-    def execute_steps(self, traj: JointTrajectory, allowed_contact_prefixes: tuple[str, ...] = (),
-                      wait_settled: bool = True, contact_ok=None):
+    def execute_steps(self, traj: JointTrajectory, allowance: ContactAllowance = ContactAllowance.NONE,
+                      wait_settled: bool = True):
         """Generator form of :meth:`execute` for cooperative callers (the orchestrator's
         runtime): it steps the world itself and yields after every physics step, so other
         tasks (a scan's status, perception) can run in between; returns the report."""
@@ -97,7 +97,7 @@ class TrajectoryExecutor:
         try:
             while w.time_s < t_end - 0.5 * w.timestep_s:
                 w.step(_MONITOR_EVERY_STEPS)
-                self._monitor(rep, allowed_contact_prefixes, contact_ok)
+                self._monitor(rep, allowance)
                 yield
             rep.duration_s = float(w.time_s - t_start)
             if wait_settled:
@@ -113,7 +113,7 @@ class TrajectoryExecutor:
                         self._stop("settle", f"the arm did not settle within {cfg.settle_timeout_s} s "
                                              f"(error {err:.4f} rad, speed {np.max(np.abs(w.qd)):.4f} rad/s)")
                     w.step(_MONITOR_EVERY_STEPS)
-                    self._monitor(rep, allowed_contact_prefixes, contact_ok)
+                    self._monitor(rep, allowance)
                     yield
                 rep.settle_time_s = float(w.time_s - t_start - rep.duration_s)
             rep.final_error_rad = float(np.max(np.abs(w.q - traj.q[-1])))
@@ -124,7 +124,7 @@ class TrajectoryExecutor:
             raise
         return rep
 
-    def _monitor(self, rep: ExecutionReport, allowed: tuple[str, ...], contact_ok=None) -> None:
+    def _monitor(self, rep: ExecutionReport, allowance: ContactAllowance) -> None:
         cfg = self.config
         w = self.world
         q_ref, _ = w.reference()
@@ -132,10 +132,8 @@ class TrajectoryExecutor:
         rep.max_tracking_error_rad = max(rep.max_tracking_error_rad, err)
         if err > cfg.tracking_error_limit_rad:
             self._stop("tracking", f"tracking error {err:.4f} rad exceeds {cfg.tracking_error_limit_rad} rad")
-        contacts = w.robot_contacts()
-        if contacts:
-            bad = self._unexpected(contacts, allowed, contact_ok)
-            if bad:
-                rep.contacts.extend(bad)
-                if cfg.stop_on_contact:
-                    self._stop("contact", f"unexpected robot contact {sorted(set(bad))}")
+        bad = w.unexpected_contacts(allowance)
+        if bad:
+            rep.contacts.extend(bad)
+            if cfg.stop_on_contact:
+                self._stop("contact", f"unexpected robot contact {sorted(set(bad))}")

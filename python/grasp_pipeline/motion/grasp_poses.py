@@ -1,42 +1,48 @@
-"""TCP poses of a top-down grasp motion from an object box (SPEC 3 / 7).
+"""TCP poses of a top-down grasp (SPEC 3 / 7): the one place the closing sign is chosen.
 
-SPEC 3 builds the grasp rotation from the plane normal ``n`` and the closing axis
-(``R_box[:, 0]``). In our TCP frame (``grasp_pipeline.sim.robot_model``): z = approach =
-``-n`` (into the object), y = closing axis, x = y × z; position = the box centre.
-The closing axis' sign is free; the sign whose hand orientation is nearer the reference
-TCP orientation (e.g. the current one) is chosen, which keeps joint 7 away from its limits.
+Our TCP frame (``grasp_pipeline.robot.description``): z = approach (into the object),
+y = closing axis, x = y × z. A parallel gripper's closing axis has no sign; of the two, the
+one whose hand orientation is nearer a reference TCP orientation (e.g. the current one) is
+chosen, which keeps joint 7 away from its limits.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .occupancy import OrientedBox
 from .poses import rotation_angle
 
 
-def top_down_grasp_tcp(box: OrientedBox, plane_normal: np.ndarray = np.array([0.0, 0.0, 1.0]),
-                       reference_tcp: np.ndarray | None = None, closing_axis: int = 0) -> np.ndarray:
-    """TCP pose (4x4) for a top-down grasp of ``box`` closing along its axis ``closing_axis``."""
-    n = np.asarray(plane_normal, dtype=float)
-    n = n / np.linalg.norm(n)
-    closing = box.R[:, closing_axis]
-    closing = closing - np.dot(closing, n) * n
-    if np.linalg.norm(closing) < 1e-9:
-        raise ValueError("closing axis is parallel to the plane normal: degenerate footprint")
-    closing /= np.linalg.norm(closing)
-    z = -n
+def tcp_rotation(approach: np.ndarray, closing: np.ndarray,
+                 reference_tcp: np.ndarray | None = None) -> np.ndarray:
+    """TCP rotation (3x3) with z = ``approach`` and y = ±``closing`` (made orthogonal to the
+    approach), the sign nearer ``reference_tcp`` (4x4 or 3x3; None: +closing)."""
+    z = np.asarray(approach, dtype=float)
+    z = z / np.linalg.norm(z)
+    c = np.asarray(closing, dtype=float)
+    c = c - np.dot(c, z) * z
+    if np.linalg.norm(c) < 1e-9:
+        raise ValueError("closing axis is parallel to the approach: degenerate grasp")
+    c /= np.linalg.norm(c)
     best = None
     for sign in (1.0, -1.0):
-        y = sign * closing
-        x = np.cross(y, z)
-        R = np.column_stack([x, y, z])
-        d = 0.0 if reference_tcp is None else rotation_angle(R @ reference_tcp[:3, :3].T)
+        y = sign * c
+        R = np.column_stack([np.cross(y, z), y, z])
+        if reference_tcp is None:
+            return R
+        d = rotation_angle(R @ np.asarray(reference_tcp)[:3, :3].T)
         if best is None or d < best[0]:
             best = (d, R)
+    return best[1]
+
+
+def tcp_pose_from_grasp(grasp, reference_tcp: np.ndarray | None = None) -> np.ndarray:
+    """TCP pose (4x4) of a ``BestGrasp`` (position = contact point, rotation column 0 =
+    approach into the object, column 2 = closing axis)."""
+    R = np.asarray(grasp.R, dtype=float)
     T = np.eye(4)
-    T[:3, :3] = best[1]
-    T[:3, 3] = box.center
+    T[:3, :3] = tcp_rotation(R[:, 0], R[:, 2], reference_tcp)
+    T[:3, 3] = np.asarray(grasp.position, dtype=float)
     return T
 
 

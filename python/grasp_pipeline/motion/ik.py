@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from ..sim import robot_model as rm
+from ..robot import description as rm
 from .config import MotionConfig
 from .exceptions import UnreachablePoseError
 from .kinematics import ChainKinematics

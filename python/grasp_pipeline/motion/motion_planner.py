@@ -22,7 +22,7 @@ import time
 import mujoco
 import numpy as np
 
-from ..sim import robot_model as rm
+from ..robot import description as rm
 from .cartesian import CartesianPlanner
 from .config import MotionConfig, load_motion_config
 from .exceptions import EnvironmentCloudError, GoalInCollisionError, PlanningFailedError
@@ -48,7 +48,7 @@ class MotionPlanner:
         self.config = config if config is not None else load_motion_config()
         self.model = model if model is not None else rm.load_robot_model()
         cfg = self.config
-        self.robot = RobotSpheres(self.model, cfg.sphere_cell_m, cfg.default_finger_opening_m,
+        self.robot = RobotSpheres(self.model, cfg.sphere_cell_m, rm.GRIPPER_MAX_WIDTH_M,
                                   cfg.self_collision_margin_m)
         self.ik = PandaIK(cfg, self.model)
         self.validator = StateValidator(self.robot, cfg)

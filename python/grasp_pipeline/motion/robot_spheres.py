@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from ..sim import robot_model as rm
+from ..robot import description as rm
 from .kinematics import ChainKinematics, _quat_to_mat
 
 

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sim import robot_model as rm
+from ..robot import description as rm
 from .config import MotionConfig
 from .occupancy import OccupancyMap, OrientedBox
 from .robot_spheres import RobotSpheres

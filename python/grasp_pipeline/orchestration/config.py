@@ -5,7 +5,6 @@ from __future__ import annotations
 from dataclasses import dataclass, fields
 
 from ..exceptions import ConfigError
-from ..settings import register_section
 
 
 def _positive(obj, *names: str, allow_zero: bool = False) -> None:
@@ -28,11 +27,15 @@ class ScanConfig:
     select_max_distance_m: float = 0.10
     return_settle_tol_rad: float = 1e-4
     return_settle_timeout_s: float = 1.0
+    rough_view_s: float = 0.5
+    settle_view_s: float = 0.3
+    scan_timeout_s: float = 120.0
 
     def validate(self) -> None:
         _positive(self, "dwell_timeout_s", "stale_timeout_s", "return_settle_tol_rad",
                   "select_max_distance_m",
-                  "return_settle_timeout_s")
+                  "return_settle_timeout_s", "rough_view_s", "scan_timeout_s")
+        _positive(self, "settle_view_s", allow_zero=True)
         _positive(self, "dwell_frames", "select_verify_frames", allow_zero=True)
 
 
@@ -54,6 +57,7 @@ class GraspConfig:
     close_timeout_s: float = 8.0
     fully_closed_gap_m: float = 0.004
     held_gap_drop_m: float = 0.003
+    held_min_force_N: float = 5.0
     lift_height_m: float = 0.10
     hold_check_s: float = 2.0
     retreat_height_m: float = 0.10
@@ -63,6 +67,7 @@ class GraspConfig:
     place_slot_dx_m: float = 0.05
     place_slot_dy_m: float = 0.08
     release_wait_s: float = 0.6
+    pick_timeout_s: float = 90.0
 
     def validate(self) -> None:
         _positive(self, *(f.name for f in fields(self)
@@ -75,6 +80,3 @@ class GraspConfig:
         if not 0 < self.close_command_fraction <= 1:
             raise ConfigError("GraspConfig.close_command_fraction: expected (0, 1]")
 
-
-register_section("scan", __name__, "ScanConfig")
-register_section("grasp", __name__, "GraspConfig")

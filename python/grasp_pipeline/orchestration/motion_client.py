@@ -3,8 +3,9 @@ runtime tasks.
 
 Obstacles come from perception only — the environment points of a frame taken at a known
 arm pose (for the robot's self-filter) and the oriented boxes of the tracked objects —
-plus the work cell's fixed furniture that is part of the robot's set-up (the tray's
-boxes, read from the model like a work-cell description; never an object's pose).
+plus the work cell's fixed furniture that is part of the robot's set-up (the tray's boxes,
+from the work-cell description; never an object's pose). Every executed plan is published
+as a :class:`~.events.PlanEvent`.
 Motions are planned from the last *commanded* joints (the measured ones lag by ~1e-3 rad,
 which can put a start state a fraction of a millimetre inside a clearance).
 """
@@ -19,54 +20,38 @@ import numpy as np
 from ..motion.executor import ExecutionReport, TrajectoryExecutor
 from ..motion.motion_planner import MotionPlanner
 from ..motion.occupancy import OrientedBox
+from ..motion.perceived_scene import PerceivedScene
 from ..motion.trajectory import JointPath, JointTrajectory
+from ..robot.protocols import ContactAllowance
+from .events import EventBus, PlanEvent
 
 log = logging.getLogger("grasp_pipeline.motion_client")
 
-FIXTURE_PREFIX = "tray_"
-
-
-def fixture_boxes(world, prefix: str = FIXTURE_PREFIX) -> list[OrientedBox]:
-    """Boxes of the work cell's fixed furniture named ``prefix*`` (the tray)."""
-    import mujoco
-
-    m = world.model
-    names = [m.geom(g).name for g in range(m.ngeom)
-             if m.geom(g).name.startswith(prefix) and m.geom_type[g] == mujoco.mjtGeom.mjGEOM_BOX]
-    return [geom_box(world, n) for n in names]
-
-
-def geom_box(world, name: str) -> OrientedBox:
-    """The world-frame box of the model's box geom ``name`` (fixed furniture of the cell)."""
-    import mujoco
-
-    m, d = world.model, world.data
-    mujoco.mj_kinematics(m, d)
-    g = m.geom(name).id
-    return OrientedBox(d.geom_xpos[g].copy(), d.geom_xmat[g].reshape(3, 3).copy(),
-                       2.0 * m.geom_size[g].copy())
+NONE = ContactAllowance.NONE
 
 
 class MotionClient:
     """Plans with :class:`MotionPlanner` and executes with :class:`TrajectoryExecutor`."""
 
-    def __init__(self, world, planner: MotionPlanner) -> None:
+    def __init__(self, world, planner: MotionPlanner, fixtures: Sequence[OrientedBox] = (),
+                 events: Optional[EventBus] = None) -> None:
+        """``world``: the robot (clock, arm, contact monitor); ``fixtures``: the work cell's
+        fixed obstacles (:attr:`grasp_pipeline.motion.work_cell.WorkCell.fixtures`)."""
         self.world = world
         self.planner = planner
+        self.events = events if events is not None else EventBus()
         self.executor = TrajectoryExecutor(world, planner.config)
-        self.fixtures = fixture_boxes(world)
+        self.fixtures = list(fixtures)
         self.q_cmd = np.asarray(world.q, dtype=float).copy()
         self.object_boxes: list[OrientedBox] = []
         self.plans: list[dict] = []  # log of every plan: kind, method, ms, duration
 
     # ---- scene ------------------------------------------------------------------
-    def set_scene(self, environment_points: np.ndarray, object_boxes: Sequence[OrientedBox],
-                  capture_q: Optional[np.ndarray], target_index: Optional[int] = None) -> None:
-        """Perceived obstacles; ``target_index`` indexes ``object_boxes`` (not an obstacle)."""
-        self.object_boxes = list(object_boxes)
-        boxes = self.object_boxes + self.fixtures
-        self.planner.set_scene(environment_points, boxes, capture_q=capture_q,
-                               target_index=target_index)
+    def set_scene(self, scene: PerceivedScene, target_tid: Optional[int] = None) -> None:
+        """Perceived obstacles; the box of track ``target_tid`` is the target (no obstacle)."""
+        self.object_boxes = list(scene.boxes)
+        self.planner.set_scene(scene.environment_points, self.object_boxes + self.fixtures,
+                               capture_q=scene.capture_q, target_index=scene.index_of(target_tid))
 
     def set_target(self, target_index: Optional[int]) -> None:
         self.planner.set_target(target_index)
@@ -83,15 +68,18 @@ class MotionClient:
         return self.planner.plan_cartesian(self.q_cmd if q_from is None else q_from, T_world, frame,
                                            allow_target_contact)
 
-    def execute(self, kind: str, traj: JointTrajectory, contact_ok=None):
+    def execute(self, kind: str, traj: JointTrajectory, allowance: ContactAllowance = NONE):
         """Task generator: run a planned trajectory (it must start at the commanded joints)."""
-        return (yield from self._execute(kind, traj, contact_ok))
+        return (yield from self._execute(kind, traj, allowance))
 
-    def _execute(self, kind: str, traj: JointTrajectory, contact_ok=None):
-        self.plans.append({"kind": kind, "method": traj.path.method if traj.path else "",
-                           "planning_ms": traj.path.planning_ms if traj.path else 0.0,
-                           "timing_ms": traj.timing_ms, "duration_s": traj.duration_s})
-        report: ExecutionReport = yield from self.executor.execute_steps(traj, contact_ok=contact_ok)
+    def _execute(self, kind: str, traj: JointTrajectory, allowance: ContactAllowance = NONE):
+        plan = {"kind": kind, "method": traj.path.method if traj.path else "",
+                "planning_ms": traj.path.planning_ms if traj.path else 0.0,
+                "timing_ms": traj.timing_ms, "duration_s": traj.duration_s}
+        self.plans.append(plan)
+        if self.events.wants(PlanEvent):
+            self.events.publish(PlanEvent(float(self.world.time_s), **plan))
+        report: ExecutionReport = yield from self.executor.execute_steps(traj, allowance)
         self.q_cmd = traj.q[-1].copy()
         return report
 
@@ -111,16 +99,17 @@ class MotionClient:
         """After a stop, plan from where the arm actually is."""
         self.q_cmd = np.asarray(self.world.q, dtype=float).copy()
 
-    def to_joints(self, q_goal: np.ndarray, kind: str = "joints", contact_ok=None):
+    def to_joints(self, q_goal: np.ndarray, kind: str = "joints", allowance: ContactAllowance = NONE):
         traj = self.planner.plan_to_joints(self.q_cmd, np.asarray(q_goal, dtype=float))
-        return (yield from self._execute(kind, traj, contact_ok))
+        return (yield from self._execute(kind, traj, allowance))
 
-    def to_pose(self, T_world: np.ndarray, frame: str = "tcp", kind: str = "pose", contact_ok=None):
+    def to_pose(self, T_world: np.ndarray, frame: str = "tcp", kind: str = "pose",
+                allowance: ContactAllowance = NONE):
         traj = self.planner.plan_to_pose(self.q_cmd, T_world, frame)
-        return (yield from self._execute(kind, traj, contact_ok))
+        return (yield from self._execute(kind, traj, allowance))
 
     def line(self, T_world: np.ndarray, frame: str = "tcp", kind: str = "line",
-             allow_target_contact: bool = False, contact_ok=None):
-        """Straight TCP line; ``contact_ok(robot_geom, other_geom)`` marks expected contacts."""
+             allow_target_contact: bool = False, allowance: ContactAllowance = NONE):
+        """Straight TCP line; ``allowance``: the contacts this motion expects."""
         traj = self.planner.plan_cartesian(self.q_cmd, T_world, frame, allow_target_contact)
-        return (yield from self._execute(kind, traj, contact_ok))
+        return (yield from self._execute(kind, traj, allowance))

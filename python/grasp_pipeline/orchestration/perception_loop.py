@@ -18,7 +18,9 @@ import numpy as np
 from .. import _core
 from ..perception import FrameResult, PerceptionSession
 from .config import ScanConfig
+from .events import EventBus, FrameEvent, PerceptionEvent
 from .selection import Selector, SelectResult
+from .tracks import nearest_track
 
 log = logging.getLogger("grasp_pipeline.perception_loop")
 
@@ -37,8 +39,10 @@ class PerceptionLoop:
     """Frames in, tracks and best grasps out (one instance per run)."""
 
     def __init__(self, session: PerceptionSession, scan_config: ScanConfig | None = None,
-                 ready_camera_pose: Optional[np.ndarray] = None) -> None:
+                 ready_camera_pose: Optional[np.ndarray] = None,
+                 events: Optional[EventBus] = None) -> None:
         self.session = session
+        self.events = events if events is not None else EventBus()
         self.config = scan_config or ScanConfig()
         self.selector = Selector(fallback_limit_m=self.config.select_max_distance_m)
         self.latest: Optional[FrameInfo] = None
@@ -55,19 +59,25 @@ class PerceptionLoop:
         """Process one camera frame (``sim.Frame``: points_world, time_s, T_world_camera);
         ``q``: the arm joints at capture, if known."""
         T = np.asarray(frame.T_world_camera)
+        if self.events.wants(FrameEvent):
+            self.events.publish(FrameEvent(float(frame.time_s), frame, None if q is None else np.array(q)))
         res = self.session.process(frame.points_world, T[:3, 3], frame.time_s)
         if self.ready_camera_pose is None:
             self.ready_camera_pose = T.copy()
         self.latest = FrameInfo(float(frame.time_s), T, res, None if q is None else np.array(q))
         self.frames += 1
         self.stale_reported = False
-        # Log the per-object view labels ("#0 nadir, #1 oblique") when they change; the
-        # angles of every frame are at DEBUG.
-        key = ", ".join(f"#{t} {v.quality.name.lower()}" for t, v in zip(res.raw.tids, res.raw.views))
-        if key and key != self._last_labels:
-            log.info("views: %s", self.session.view_labels(res))
-        self._last_labels = key
-        self.selector.on_frame(self.tracks(), self.gate_m, self.plane, float(frame.time_s))
+        # Per-frame view labels ("#0 nadir, #1 oblique") are DEBUG, and only when they change;
+        # the stages (scan probes, picks) log their own decisions at INFO.
+        if log.isEnabledFor(logging.DEBUG):
+            key = ", ".join(f"#{t} {v.quality.name.lower()}" for t, v in zip(res.raw.tids, res.raw.views))
+            if key and key != self._last_labels:
+                log.debug("views: %s", self.session.view_labels(res))
+            self._last_labels = key
+        tracks = self.tracks()
+        self.selector.on_frame(tracks, self.gate_m, self.plane, float(frame.time_s))
+        if self.events.wants(PerceptionEvent):
+            self.events.publish(PerceptionEvent(float(frame.time_s), res, tuple(tracks)))
 
     # ---- latched state ------------------------------------------------------------
     @property
@@ -116,11 +126,7 @@ class PerceptionLoop:
 
     def nearest_track(self, xy: np.ndarray, within_gate: bool = True):
         """Track nearest to a horizontal position (within the gate when one is defined)."""
-        best, best_d = None, np.inf
-        for t in self.tracks():
-            d = float(np.hypot(*(np.asarray(t.smoothed.center[:2]) - xy)))
-            if d < best_d:
-                best, best_d = t, d
+        best, best_d = nearest_track(self.tracks(), xy)
         gate = self.gate_m
         if best is not None and within_gate and gate is not None and best_d > gate:
             return None

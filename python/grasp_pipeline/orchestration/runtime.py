@@ -16,6 +16,8 @@ import logging
 from dataclasses import dataclass, field
 from typing import Any, Callable, Generator, Optional
 
+from .events import EventBus, Tick
+
 log = logging.getLogger("grasp_pipeline.runtime")
 
 TaskGen = Generator[None, None, Any]
@@ -34,11 +36,12 @@ class Task:
 
 @dataclass
 class Runtime:
-    """Steps ``world`` and the tasks; ``observers`` are called after every physics step."""
+    """Steps ``world`` (the robot's clock) and the tasks; publishes a
+    :class:`~.events.Tick` after every step when anyone listens."""
 
     world: Any
+    events: EventBus = field(default_factory=EventBus)
     tasks: list = field(default_factory=list)
-    observers: list = field(default_factory=list)
 
     def start(self, name: str, gen: TaskGen) -> Task:
         task = Task(name, gen)
@@ -59,8 +62,8 @@ class Runtime:
                 self.tasks.remove(task)
         if self.world.time_s == t_before:
             self.world.step(1)
-        for obs in self.observers:
-            obs(self.world)
+        if self.events.wants(Tick):
+            self.events.publish(Tick(float(self.world.time_s)))
 
     def spin_until(self, done: Callable[[], bool], timeout_s: float) -> bool:
         """Step until ``done()`` (True) or ``timeout_s`` of simulated time passed (False)."""

@@ -17,13 +17,14 @@ from __future__ import annotations
 
 import enum
 import logging
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Optional
 
 import numpy as np
 
 from .. import _core
 from ..exceptions import GraspPipelineError
+from ..results import ProbeResult, ScanOutcome
 from .config import ScanConfig
 from .runtime import Runtime, Task
 from .scene_model import snapshot
@@ -42,28 +43,6 @@ class ScanStage(enum.Enum):
 class TriggerResult:
     accepted: bool
     message: str
-
-
-@dataclass
-class ProbeResult:
-    """One object's probe."""
-
-    index: int
-    rough_center: list
-    tid: Optional[int] = None
-    nadir: bool = False
-    message: str = ""
-    view_angles_deg: dict = field(default_factory=dict)
-
-
-@dataclass
-class ScanOutcome:
-    probes: list = field(default_factory=list)
-    completed: bool = False
-    returned_to_start: bool = False
-    joint_error_rad: Optional[float] = None
-    failure: str = ""
-    start_q: Optional[list] = None
 
 
 class ActiveScan:
@@ -147,8 +126,7 @@ class ActiveScan:
         if self.loop.report_if_stale(self.rt.world.time_s):
             out.failure = "perception stale before the first motion: no motion made"
             return
-        scene = snapshot(self.loop, self.loop.latest.q if self.loop.latest else None)
-        self.motion.set_scene(scene.environment_points, scene.boxes, scene.capture_q)
+        self.motion.set_scene(snapshot(self.loop))
         plane = self.loop.plane
         ready = _core.Pose.from_matrix(self.loop.ready_camera_pose)
         cam_in_flange = _core.Pose.from_matrix(self.camera_in_flange)

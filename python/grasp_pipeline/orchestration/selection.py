@@ -18,6 +18,7 @@ from typing import Optional, Sequence
 import numpy as np
 
 from .. import _core
+from .tracks import nearest_track
 
 log = logging.getLogger("grasp_pipeline.select")
 
@@ -44,15 +45,6 @@ class _Check:
     clears: bool = False  # a construction failure clears the selection
 
 
-def _nearest(tracks: Sequence["_core.Track"], x: float, y: float):
-    best, best_d = None, np.inf
-    for t in tracks:
-        d = float(np.hypot(t.smoothed.center[0] - x, t.smoothed.center[1] - y))
-        if d < best_d:
-            best, best_d = t, d
-    return best, best_d
-
-
 def check_selection(x: float, y: float, tracks: Sequence["_core.Track"], gate_m: Optional[float],
                     plane: Optional["_core.Plane"], fallback_limit_m: Optional[float] = None) -> _Check:
     """The checks of SPEC 5 for a point (x, y), in order.
@@ -62,7 +54,7 @@ def check_selection(x: float, y: float, tracks: Sequence["_core.Track"], gate_m:
     a click far from the only object must not select it)."""
     if not tracks or plane is None:
         return _Check(None, None, "nothing seen yet", "nothing")
-    track, dist = _nearest(tracks, x, y)
+    track, dist = nearest_track(tracks, (x, y))
     limit = 2.0 * gate_m if gate_m is not None else fallback_limit_m
     if limit is not None and dist > limit:
         return _Check(None, track, f"no object near ({x:.3f}, {y:.3f}): {dist * 1e3:.0f} mm away, "

@@ -85,41 +85,37 @@ def _limits(focus: np.ndarray, env: np.ndarray, context_m: float = 0.12, margin:
     return lo, lo + span
 
 
-def build_figure(object_points=None, object_labels=None, environment_points=None,
-                 boxes: Iterable = (), grasps: Iterable = (), plane=None, title: str = "",
-                 *, elev: float = 35.0, azim: float = -150.0, size_px: tuple[int, int] = (960, 720),
-                 max_environment_points: int = 20000, max_object_points: int = 20000,
-                 arrow_length_m: float = 0.08):
-    """The matplotlib Figure of a snapshot (see :func:`render_snapshot`)."""
+def _unit(a: np.ndarray) -> np.ndarray:
+    return a / max(np.linalg.norm(a), 1e-12)
+
+
+def _focus_points(obj: np.ndarray, boxes: list, grasps: list, arrow_length_m: float) -> np.ndarray:
+    """What the view must show: object points, box corners and both ends of each grasp arrow."""
+    focus = [obj] if len(obj) else []
+    focus += [box_corners(*b) for b in boxes]
+    for p, a in grasps:
+        a = _unit(a)
+        focus.append(np.vstack([p, p - a * arrow_length_m]))
+    return np.vstack(focus) if focus else np.zeros((0, 3))
+
+
+def _new_axes(size_px: tuple[int, int]):
+    """A white Agg-backed Figure of ``size_px`` pixels and its 3-D axes."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
     from mpl_toolkits.mplot3d import Axes3D  # noqa: F401  (registers the 3-D projection)
-    from mpl_toolkits.mplot3d.art3d import Line3DCollection
-
-    obj = _finite_rows(object_points)
-    env = _finite_rows(environment_points)
-    labels = None if object_labels is None else np.asarray(object_labels).reshape(-1)
-    boxes = [(np.asarray(c, float), np.asarray(R, float), np.asarray(e, float)) for c, R, e in boxes]
-    grasps = [(np.asarray(p, float), np.asarray(a, float)) for p, a in grasps]
 
     dpi = 100
     fig = Figure(figsize=(size_px[0] / dpi, size_px[1] / dpi), dpi=dpi, facecolor="white")
     FigureCanvasAgg(fig)
     ax = fig.add_subplot(projection="3d")
     ax.set_facecolor("white")
+    return fig, ax
 
-    focus = [obj] if len(obj) else []
-    focus += [box_corners(*b) for b in boxes]
-    for p, a in grasps:
-        a = a / max(np.linalg.norm(a), 1e-12)
-        focus.append(np.vstack([p, p - a * arrow_length_m]))
-    focus = np.vstack(focus) if focus else np.zeros((0, 3))
-    lo, hi = _limits(focus, env)
-    n_env_total = len(env)
-    # Environment points outside the view would only be clipped by hand; drop them here.
-    if len(env):
-        env = env[((env >= lo) & (env <= hi)).all(axis=1)]
 
+def _draw_points(ax, env: np.ndarray, obj: np.ndarray, max_environment_points: int,
+                 max_object_points: int) -> None:
+    """Environment points (blue), then object points (red), each subsampled to its limit."""
     env_draw = _subsample(env, max_environment_points)
     if len(env_draw):
         ax.scatter(env_draw[:, 0], env_draw[:, 1], env_draw[:, 2], s=2.0, c=[ENVIRONMENT_RGB],
@@ -129,6 +125,9 @@ def build_figure(object_points=None, object_labels=None, environment_points=None
         ax.scatter(obj_draw[:, 0], obj_draw[:, 1], obj_draw[:, 2], s=3.0, c=[OBJECT_RGB],
                    marker=".", linewidths=0, depthshade=False, rasterized=True)
 
+
+def _draw_plane(ax, plane, lo: np.ndarray, hi: np.ndarray) -> None:
+    """The plane as a 7×7 wireframe over the view's x/y range (skipped when vertical)."""
     nc = _plane_nc(plane)
     if nc is not None and abs(nc[0][2]) > 1e-6:
         n, c = nc
@@ -138,22 +137,32 @@ def build_figure(object_points=None, object_labels=None, environment_points=None
         Z = -(c + n[0] * X + n[1] * Y) / n[2]
         ax.plot_wireframe(X, Y, Z, color=PLANE_RGB, linewidth=0.5, alpha=0.6)
 
-    if boxes:
-        segs = []
-        for b in boxes:
-            k = box_corners(*b)
-            segs += [(k[i], k[j]) for i, j in _EDGES]
-        ax.add_collection3d(Line3DCollection(segs, colors=[BOX_RGB], linewidths=1.6))
-        for i, (c, R, e) in enumerate(boxes):
-            top = c + R[:, 2] * (e[2] / 2.0 + 0.01)
-            ax.text(top[0], top[1], top[2], f"#{i}", color="black", fontsize=8)
 
+def _draw_boxes(ax, boxes: list) -> None:
+    """Box wireframes (green), each labelled ``#i`` just above its top face."""
+    from mpl_toolkits.mplot3d.art3d import Line3DCollection
+
+    segs = []
+    for b in boxes:
+        k = box_corners(*b)
+        segs += [(k[i], k[j]) for i, j in _EDGES]
+    ax.add_collection3d(Line3DCollection(segs, colors=[BOX_RGB], linewidths=1.6))
+    for i, (c, R, e) in enumerate(boxes):
+        top = c + R[:, 2] * (e[2] / 2.0 + 0.01)
+        ax.text(top[0], top[1], top[2], f"#{i}", color="black", fontsize=8)
+
+
+def _draw_grasps(ax, grasps: list, arrow_length_m: float) -> None:
+    """One orange arrow per grasp, ending at the grasp position along its approach."""
     for p, a in grasps:
-        a = a / max(np.linalg.norm(a), 1e-12)
+        a = _unit(a)
         start = p - a * arrow_length_m
         ax.quiver(start[0], start[1], start[2], a[0], a[1], a[2], length=arrow_length_m,
                   color=ARROW_RGB, linewidth=2.2, arrow_length_ratio=0.3, normalize=False)
 
+
+def _set_view(ax, lo: np.ndarray, hi: np.ndarray, elev: float, azim: float) -> None:
+    """Limits, equal aspect, viewpoint and axis labels."""
     ax.set_xlim(lo[0], hi[0])
     ax.set_ylim(lo[1], hi[1])
     ax.set_zlim(lo[2], hi[2])
@@ -163,6 +172,34 @@ def build_figure(object_points=None, object_labels=None, environment_points=None
     ax.set_ylabel("y [m]", fontsize=8)
     ax.set_zlabel("z [m]", fontsize=8)
     ax.tick_params(labelsize=7)
+
+
+def build_figure(object_points=None, object_labels=None, environment_points=None,
+                 boxes: Iterable = (), grasps: Iterable = (), plane=None, title: str = "",
+                 *, elev: float = 35.0, azim: float = -150.0, size_px: tuple[int, int] = (960, 720),
+                 max_environment_points: int = 20000, max_object_points: int = 20000,
+                 arrow_length_m: float = 0.08):
+    """The matplotlib Figure of a snapshot (see :func:`render_snapshot`)."""
+    obj = _finite_rows(object_points)
+    env = _finite_rows(environment_points)
+    labels = None if object_labels is None else np.asarray(object_labels).reshape(-1)
+    boxes = [(np.asarray(c, float), np.asarray(R, float), np.asarray(e, float)) for c, R, e in boxes]
+    grasps = [(np.asarray(p, float), np.asarray(a, float)) for p, a in grasps]
+
+    fig, ax = _new_axes(size_px)
+    lo, hi = _limits(_focus_points(obj, boxes, grasps, arrow_length_m), env)
+    n_env_total = len(env)
+    # Environment points outside the view would only be clipped by hand; drop them here.
+    if len(env):
+        env = env[((env >= lo) & (env <= hi)).all(axis=1)]
+
+    _draw_points(ax, env, obj, max_environment_points, max_object_points)
+    _draw_plane(ax, plane, lo, hi)
+    if boxes:
+        _draw_boxes(ax, boxes)
+    _draw_grasps(ax, grasps, arrow_length_m)
+    _set_view(ax, lo, hi, elev, azim)
+
     n_obj = len(np.unique(labels[labels >= 0])) if labels is not None and len(labels) else 0
     subtitle = (f"{len(obj)} object points ({n_obj} groups), {n_env_total} environment points, "
                 f"{len(boxes)} boxes, {len(grasps)} grasps")

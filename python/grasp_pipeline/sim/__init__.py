@@ -2,22 +2,18 @@
 
 Modules (one concept each):
 
-* :mod:`.robot_model` — robot names, Franka limits, flange/TCP/camera frames read from the MJCF.
+* :mod:`.gl_backend` — choose the headless GL backend before MuJoCo is imported
+  (:func:`~.gl_backend.configure_gl`) and make renderers only where a context can exist.
 * :mod:`.scene_spec` — dataclasses describing a scene (objects: kind, size, pose).
 * :mod:`.scenes` — the reference scene (SPEC section 8) and a seeded random scene generator.
-* :mod:`.world` — :class:`~.world.SimWorld`: build, step, follow joint trajectories, gripper,
-  readouts, contacts, depth frames.
-* :mod:`.camera` — :class:`~.camera.DepthCamera`: EGL/OSMesa rendering or a ray-cast fallback,
+* :mod:`.world` — :class:`~.world.SimWorld`: builds and steps the world and implements the
+  robot protocols of :mod:`grasp_pipeline.robot.protocols` (arm, gripper, camera, contacts).
+* :mod:`.camera` — :class:`~.camera.DepthCamera`: GL rendering or a ray-cast fallback,
   depth noise, organized world point clouds.
-* :mod:`.frame` — :class:`~.frame.Frame`, what one capture delivers.
-* :mod:`.ground_truth` — object poses and sizes **for evaluation code only**; perception,
-  planning and execution must never import it.
+* :mod:`.work_cell` — the table top and the tray as boxes, read from the model.
+* :mod:`.scene_view` — renders the fixed third-person view the run's video shows.
+* :mod:`.ground_truth` — object poses and sizes **for evaluation code only**.
 
-Submodules are imported on demand (``from grasp_pipeline.sim.world import SimWorld``) so that
-importing this package does not start MuJoCo or a GL context.
+The robot's description (names, limits, frames) is :mod:`grasp_pipeline.robot.description`.
+Importing this package does nothing: no MuJoCo, no GL context, no environment changes.
 """
-
-from .gl_backend import select_gl_backend as _select_gl_backend
-
-#: The ``MUJOCO_GL`` value in effect for this process (see :mod:`.gl_backend`).
-GL_BACKEND = _select_gl_backend()

@@ -27,3 +27,8 @@ class TrajectoryError(SimError, ValueError):
 
 class GripperError(SimError, ValueError):
     """A gripper command is out of range (width beyond 0..0.08 m, negative effort)."""
+
+
+class RenderUnavailable(RenderError):
+    """No GL context can be made in this process (GL disabled, no display, or an earlier
+    attempt failed); the depth camera then ray-casts and no video is rendered."""

@@ -11,7 +11,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from .robot_model import (
+from ..robot.description import (
     FLANGE_BODY,
     PANDA_Q_MAX,
     PANDA_Q_MIN,

@@ -14,7 +14,7 @@ import numpy as np
 
 from .config import SimConfig, load_sim_config
 from .exceptions import SceneError
-from .robot_model import READY_Q
+from ..robot.description import READY_Q
 from .scene_spec import OBJECT_KINDS, ObjectSpec, SceneSpec
 
 #: Gap left under an object when it is placed, so it settles onto the table without a jolt.

@@ -32,8 +32,8 @@ from ..assets import asset_path
 from .camera import DepthCamera
 from .config import CameraConfig, SimConfig, load_camera_config, load_sim_config
 from .exceptions import GripperError, ModelError, TrajectoryError
-from .frame import Frame
-from .robot_model import (
+from ..robot.frame import Frame
+from ..robot.description import (
     BASE_BODY,
     FINGER_GAP_TENDON,
     FINGER_JOINT_NAMES,
@@ -49,13 +49,17 @@ from .robot_model import (
 )
 from .scene_spec import ObjectSpec, SceneSpec
 from .scenes import reference_scene
+from .work_cell import TABLE_TOP_GEOM, read_work_cell
+from ..motion.work_cell import WorkCell
+from ..robot.protocols import ContactAllowance
 
 log = logging.getLogger(__name__)
 
 SCENE_BASE_XML = "scene_base.xml"
-TABLE_TOP_GEOM = "table_top"
 #: Prefix of object body and geom names in the model.
 OBJECT_PREFIX = "obj_"
+#: Robot geoms whose name contains this are fingers (pads and finger bodies).
+FINGER_GEOM_MARK = "finger"
 #: Objects: torsional/rolling friction coefficients and contact dimension (4: torsional
 #: friction too, as in DESIGN.md's friction-grasp test).
 OBJECT_FRICTION_TORSION = 0.005
@@ -153,7 +157,8 @@ class _Trajectory:
 
 
 class SimWorld:
-    """A running simulation of one scene.
+    """A running simulation of one scene; implements the robot protocols of
+    :mod:`grasp_pipeline.robot.protocols` (clock, arm, gripper, camera, contact monitor).
 
     Args:
         scene: what stands on the table (default: :func:`~.scenes.reference_scene`).
@@ -499,3 +504,25 @@ class SimWorld:
                 continue
             out.append((self.geom_name(rg), other))
         return out
+
+    def unexpected_contacts(self, allowance: ContactAllowance) -> list[str]:
+        """The contact monitor (:class:`~grasp_pipeline.robot.protocols.ContactMonitor`):
+        robot contacts that ``allowance`` does not cover, as ``"robot_geom-other_geom"``.
+
+        ``FINGERS``: finger geoms touching objects are expected. ``HELD_OBJECT``: the objects
+        the finger pads touch now may touch any robot geom (a held object tilting against the
+        palm). Fixtures (table, tray, wall) are never expected."""
+        contacts = self.robot_contacts()
+        if allowance is ContactAllowance.NONE or not contacts:
+            return [f"{r}-{o}" for r, o in contacts]
+        if allowance is ContactAllowance.FINGERS:
+            ok = {(r, o) for r, o in contacts if FINGER_GEOM_MARK in r and o.startswith(OBJECT_PREFIX)}
+        else:
+            held = {o for r, o in contacts if FINGER_GEOM_MARK in r and o.startswith(OBJECT_PREFIX)}
+            ok = {(r, o) for r, o in contacts if o in held}
+        return [f"{r}-{o}" for r, o in contacts if (r, o) not in ok]
+
+    @property
+    def work_cell(self) -> WorkCell:
+        """The table top, the tray's boxes and the tray centre, read from the model."""
+        return read_work_cell(self.model, self.data)

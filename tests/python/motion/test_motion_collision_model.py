@@ -7,7 +7,7 @@ import pytest
 from grasp_pipeline.motion.exceptions import EnvironmentCloudError
 from grasp_pipeline.motion.kinematics import ChainKinematics
 from grasp_pipeline.motion.occupancy import OccupancyMap, OrientedBox
-from grasp_pipeline.sim import robot_model as rm
+from grasp_pipeline.robot import description as rm
 
 
 def test_chain_kinematics_equals_mujoco(planner, rng):

@@ -7,7 +7,7 @@ import pytest
 
 from grasp_pipeline.motion.exceptions import ExecutionError
 from grasp_pipeline.motion.executor import TrajectoryExecutor
-from grasp_pipeline.sim import robot_model as rm
+from grasp_pipeline.robot import description as rm
 from grasp_pipeline.sim.world import SimWorld
 
 

@@ -5,7 +5,7 @@ import pytest
 
 from grasp_pipeline.motion.exceptions import InvalidPoseError, UnreachablePoseError
 from grasp_pipeline.motion.poses import pose_error
-from grasp_pipeline.sim import robot_model as rm
+from grasp_pipeline.robot import description as rm
 
 MARGIN_RAD = 0.05
 

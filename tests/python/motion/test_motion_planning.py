@@ -6,7 +6,7 @@ import pytest
 from grasp_pipeline.motion.exceptions import (CartesianPathError, GoalInCollisionError,
                                               StartInCollisionError, TimeParameterizationError)
 from grasp_pipeline.motion.timing import TrajectoryTimer
-from grasp_pipeline.sim import robot_model as rm
+from grasp_pipeline.robot import description as rm
 
 LIMIT_TOL = 0.01  # ≤ 1 % over the scaled limits at any sample
 

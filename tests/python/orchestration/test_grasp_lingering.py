@@ -22,11 +22,11 @@ def _action(tracks):
 
 def test_a_lingering_track_of_a_picked_object_is_excluded():
     action = _action([_track(4, 0.617, -0.056), _track(7, 0.40, 0.10)])
-    assert action._lingering_tids() == {4}
+    assert action.lingering_tids() == {4}
 
 
 def test_a_picked_track_moved_onto_another_object_is_that_object_now():
     # (seen in the benchmark: a re-probed object's detection joined the lingering track of
     # the object picked before it, 140 mm away; excluding it hid the new target)
     action = _action([_track(4, 0.632, -0.195), _track(2, 0.5395, -0.0725)])
-    assert action._lingering_tids() == {2}
+    assert action.lingering_tids() == {2}

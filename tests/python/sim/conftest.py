@@ -8,7 +8,7 @@ import types
 import numpy as np
 import pytest
 
-from grasp_pipeline.sim import robot_model as rm
+from grasp_pipeline.robot import description as rm
 from grasp_pipeline.sim.ik import solve_ik
 from grasp_pipeline.sim.world import SimWorld
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from grasp_pipeline.exceptions import ConfigError
-from grasp_pipeline.sim import robot_model as rm
+from grasp_pipeline.robot import description as rm
 from grasp_pipeline.sim.config import load_camera_config
 from grasp_pipeline.sim.ground_truth import object_truths
 from grasp_pipeline.sim.ik import solve_ik

@@ -8,7 +8,7 @@ import frankik
 import mujoco
 import numpy as np
 
-from grasp_pipeline.sim import robot_model as rm
+from grasp_pipeline.robot import description as rm
 
 N_CONFIGS = 1000
 TOL_M = 1e-6

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from grasp_pipeline.sim import robot_model as rm
+from grasp_pipeline.robot import description as rm
 from grasp_pipeline.sim.config import load_sim_config
 from grasp_pipeline.sim.exceptions import SceneError
 from grasp_pipeline.sim.ground_truth import object_truths

@@ -4,7 +4,7 @@ rendering, the PCL core, OMPL, TOPP-RA. No mocks. One run serves several asserti
 import numpy as np
 import pytest
 
-from grasp_pipeline.orchestration.run import run_pipeline
+from grasp_pipeline.app.run import run_pipeline
 
 BLUE_CUBE = (0.56, -0.03)
 CYLINDER = (0.52, 0.09)
@@ -15,7 +15,7 @@ NOWHERE = (1.5, 1.5)
 def report(tmp_path_factory):
     out = tmp_path_factory.mktemp("run")
     return run_pipeline(scene="reference", select=[BLUE_CUBE, CYLINDER, NOWHERE], out_dir=out,
-                        json_path=out / "report.json", video=True)
+                        json_path=out / "report.json", video=True).to_dict()
 
 
 def test_table_plane_locks_at_the_reference_height(report):

@@ -2,7 +2,6 @@
 
 import pytest
 
-from grasp_pipeline.orchestration.work_cell import WorkCell
 from grasp_pipeline.sim.scenes import reference_scene
 from grasp_pipeline.sim.world import SimWorld
 
@@ -13,7 +12,7 @@ MARGIN_M = 0.03  # grasp.target_fixture_margin_m
 def cell():
     world = SimWorld(reference_scene())
     try:
-        yield WorkCell.from_world(world)
+        yield world.work_cell
     finally:
         world.close()
 

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from grasp_pipeline.orchestration.run import SECTIONS, build_system
+from grasp_pipeline.app.sim_system import SECTIONS, build_system
 from grasp_pipeline.settings import load_settings
 from grasp_pipeline.sim.scenes import reference_scene
 

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from grasp_pipeline.orchestration.scoring import _closing_axis, _yaw_error_deg
+from grasp_pipeline.evaluation.scoring import _closing_axis, _yaw_error_deg
 from grasp_pipeline.sim.ground_truth import ObjectTruth
 
 TOL_M = 0.002  # obb.width_tol_m

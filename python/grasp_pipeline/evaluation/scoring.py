@@ -1,13 +1,12 @@
 """Ground-truth scoring of a run — **evaluation code only** (reports, benchmarks, tests).
 
-This is the one orchestration module that reads the simulator's ground truth; the
-perception loop, the scan, selection and the grasp action never import it.
+Reads the simulator's ground truth; the perception loop, the scan, selection and the grasp
+action never import it.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 from typing import Optional
 
 import numpy as np
@@ -78,52 +77,3 @@ def score_estimates(world, tracks, square_tol_m: float) -> list[dict]:
                 })
         out.append(row)
     return out
-
-
-def nearest_truth_name(world, xy) -> Optional[str]:
-    truths = object_truths(world)
-    if not truths:
-        return None
-    d = [np.linalg.norm(t.position_m[:2] - np.asarray(xy)[:2]) for t in truths]
-    return truths[int(np.argmin(d))].name
-
-
-@dataclass
-class LiftRecorder:
-    """Follows one object's true height during a pick (a runtime observer)."""
-
-    name: str
-    z0: float = math.nan
-    samples: list = field(default_factory=list)  # (t, z)
-    released_at: Optional[float] = None
-
-    def __call__(self, world) -> None:
-        for t in object_truths(world):
-            if t.name == self.name:
-                z = float(t.position_m[2])
-                if math.isnan(self.z0):
-                    self.z0 = z
-                self.samples.append((float(world.time_s), z))
-                return
-
-    def result(self, min_lift_m: float) -> dict:
-        """``lift_m``: highest rise before release; ``held_s``: time at ≥ min_lift_m."""
-        if not self.samples:
-            return {"lift_m": 0.0, "held_s": 0.0}
-        arr = np.asarray(self.samples)
-        if self.released_at is not None:
-            arr = arr[arr[:, 0] <= self.released_at]
-        if len(arr) < 2:
-            return {"lift_m": 0.0, "held_s": 0.0}
-        rise = arr[:, 1] - self.z0
-        dt = np.diff(arr[:, 0], append=arr[-1, 0])
-        return {"lift_m": float(rise.max()), "held_s": float(dt[rise >= min_lift_m].sum())}
-
-
-def in_tray(world, name: str, tray_center: np.ndarray, half_size_m: float, tray_floor_z_m: float) -> bool:
-    for t in object_truths(world):
-        if t.name == name:
-            p = t.position_m
-            return bool(abs(p[0] - tray_center[0]) <= half_size_m and abs(p[1] - tray_center[1]) <= half_size_m
-                        and p[2] >= tray_floor_z_m - 0.01 and p[2] <= tray_floor_z_m + 0.15)
-    return False

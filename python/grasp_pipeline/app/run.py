@@ -1,0 +1,172 @@
+"""``grasp-pipeline run``: rough view → active scan → pick (and place) the selected objects.
+
+:func:`run_pipeline` builds the simulated system (:mod:`.sim_system`), subscribes the
+recorders (video, snapshots) and the ground-truth evaluation to the event stream, runs the
+stages and returns a :class:`~grasp_pipeline.results.RunReport`. The report is written (one
+serializer, atomically) whatever happens: ``status`` is ``complete``, ``failed`` (with
+``error``) or ``interrupted`` (Ctrl-C / SIGTERM: the arm holds, everything done so far is
+kept). Output paths are checked before the simulation starts.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from pathlib import Path
+from typing import Optional, Sequence
+
+from ..evaluation import scoring
+from ..evaluation.pick_evaluator import PickEvaluator
+from ..exceptions import GraspPipelineError
+from ..orchestration import (GeometricGraspSource, GraspSource, PickContext, StageEvent,
+                             default_targets, pick_object)
+from ..orchestration.tracks import track_summary
+from ..report.serialize import check_writable, check_writable_dir, write_json
+from ..report.snapshot_recorder import SnapshotRecorder
+from ..report.video_recorder import VideoRecorder
+from ..results import (STATUS_COMPLETE, STATUS_FAILED, STATUS_INTERRUPTED, RunReport, ScanReport,
+                       ViewReport)
+from ..settings import Settings, load_settings
+from .sim_system import SECTIONS, System, build_system, make_scene
+
+log = logging.getLogger("grasp_pipeline.run")
+
+SNAPSHOTS = {"rough_view_done": ("rough.png", "rough view (start pose)"),
+             "scan_done": ("scan.png", "after the active scan")}
+
+
+def _view(system: System, settings: Settings, snapshots: SnapshotRecorder, stage: str) -> ViewReport:
+    loop = system.loop
+    system.events.publish(StageEvent(float(system.world.time_s), stage, perception=loop))
+    return ViewReport(tracks=[track_summary(t) for t in loop.tracks()],
+                      scores=scoring.score_estimates(system.world, loop.tracks(), settings.obb.width_tol_m),
+                      snapshot=snapshots.written.get(stage))
+
+
+def _rough_view(system: System, settings: Settings, report: RunReport, snapshots) -> bool:
+    t0 = time.perf_counter()
+    system.rt.spin(settings.scan.rough_view_s)
+    report.timings["rough_view_s"] = time.perf_counter() - t0
+    loop = system.loop
+    if loop.plane is None:
+        report.error = "no table plane found from the start pose"
+        return False
+    report.rough = _view(system, settings, snapshots, "rough_view_done")
+    report.plane = {"normal": [float(x) for x in loop.plane.n], "c": float(loop.plane.c),
+                    "height_m": float(loop.plane.height_m)}
+    return True
+
+
+def _scan(system: System, settings: Settings, report: RunReport, snapshots) -> None:
+    t0 = time.perf_counter()
+    trig = system.scanner.trigger()
+    outcome = system.rt.run(system.scanner.task, settings.scan.scan_timeout_s) if trig.accepted else None
+    report.timings["scan_s"] = time.perf_counter() - t0
+    system.rt.spin(settings.scan.settle_view_s)
+    view = _view(system, settings, snapshots, "scan_done")
+    report.scan = ScanReport(
+        tracks=view.tracks, scores=view.scores, snapshot=view.snapshot, trigger=trig.message,
+        completed=bool(outcome and outcome.completed),
+        returned_to_start=bool(outcome and outcome.returned_to_start),
+        joint_error_rad=None if outcome is None else outcome.joint_error_rad,
+        failure="" if outcome is None else outcome.failure,
+        probes=[] if outcome is None else list(outcome.probes))
+
+
+def _targets(system: System, settings: Settings, report: RunReport, select, rough_tids) -> list:
+    if select:
+        return list(select)
+    targets, report.targets_skipped = default_targets(
+        system.loop.tracks(), system.cell, settings.grasp.target_fixture_margin_m, rough_tids)
+    for s in report.targets_skipped:
+        log.info("not picking track #%d at (%.3f, %.3f): %s", s["tid"], *s["center"], s["why"])
+    return targets
+
+
+def _stages(system: System, settings: Settings, report: RunReport, snapshots, select,
+            scan: bool, place: bool, source: GraspSource) -> None:
+    if not _rough_view(system, settings, report, snapshots):
+        return
+    rough_tids = {int(t.tid) for t in system.loop.tracks()}
+    if scan:
+        _scan(system, settings, report, snapshots)
+    t0 = time.perf_counter()
+    ctx = PickContext(system.rt, system.loop, system.action, system.scanner if scan else None,
+                      settings, source, place)
+    for xy in _targets(system, settings, report, select, rough_tids):
+        report.picks.append(pick_object(ctx, xy))
+    report.timings["picks_s"] = time.perf_counter() - t0
+
+
+def _check_outputs(out_dir: Path, json_path, video: bool) -> None:
+    check_writable_dir(out_dir, "output folder (--out)")
+    if json_path is not None:
+        check_writable(json_path, "report file (--json)")
+
+
+def _recorders(system: System, out_dir: Path, video: bool):
+    snapshots = SnapshotRecorder(out_dir, SNAPSHOTS).attach(system.events)
+    PickEvaluator(system.world).attach(system.events)
+    recorder = None
+    if video:
+        from ..sim.exceptions import RenderUnavailable
+        from ..sim.scene_view import SceneView
+
+        try:
+            view = SceneView(system.world)
+            recorder = VideoRecorder(view.render, out_dir / "run.mp4", on_close=view.close)
+            recorder.attach(system.events)
+        except RenderUnavailable as exc:
+            log.warning("no video: %s", exc)
+            return snapshots, None, f"video skipped: {exc}"
+    return snapshots, recorder, None
+
+
+def run_pipeline(scene: str = "reference", seed: int = 0,
+                 select: Optional[Sequence[tuple[float, float]]] = None,
+                 out_dir: str | Path = "out", json_path: str | Path | None = None,
+                 settings: Optional[Settings] = None, video: bool = True, place: bool = True,
+                 scan: bool = True, grasp_source: Optional[GraspSource] = None) -> RunReport:
+    """Run the whole pipeline headless; returns (and writes to ``json_path``) the report.
+
+    ``grasp_source``: where grasps come from (default: the geometric SPEC 3 grasp)."""
+    wall0 = time.perf_counter()
+    settings = settings or load_settings(SECTIONS)
+    out_dir = Path(out_dir)
+    _check_outputs(out_dir, json_path, video)
+    spec = make_scene(scene, seed, settings)
+    report = RunReport(scene={"name": spec.name, "seed": seed, "objects": len(spec.objects)},
+                       settings=settings.as_dict())
+    system = build_system(spec, settings)
+    snapshots, recorder, note = _recorders(system, out_dir, video)
+    if note:
+        report.warnings.append(note)
+    try:
+        _stages(system, settings, report, snapshots, select, scan, place,
+                grasp_source or GeometricGraspSource())
+        report.status = STATUS_FAILED if report.error else STATUS_COMPLETE
+    except KeyboardInterrupt:
+        system.world.hold()
+        report.status, report.error = STATUS_INTERRUPTED, "interrupted (SIGINT/SIGTERM); the arm holds"
+        log.error("run interrupted: the arm holds; writing the report of what was done")
+    except GraspPipelineError as exc:
+        system.world.hold()
+        report.status, report.error = STATUS_FAILED, f"{type(exc).__name__}: {exc}"
+        log.error("run failed: %s", exc)
+    finally:
+        _close(system, report, recorder, snapshots)
+        report.timings["wall_s"] = time.perf_counter() - wall0
+        if json_path is not None:
+            write_json(json_path, report)
+    return report
+
+
+def _close(system: System, report: RunReport, recorder, snapshots) -> None:
+    report.motion_plans = list(system.motion.plans)
+    if recorder is not None:
+        report.video = recorder.close()
+        if recorder.problem:
+            report.warnings.append(recorder.problem)
+    report.warnings.extend(snapshots.problems)
+    report.warnings.extend(system.events.failures)
+    system.close()

@@ -1,0 +1,73 @@
+"""The composition root of a simulated run: a ``SimWorld`` wired to the pipeline's parts."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..exceptions import ConfigError, InputError
+from ..motion.motion_planner import MotionPlanner
+from ..motion.work_cell import WorkCell
+from ..orchestration import (ActiveScan, EventBus, GraspAction, MotionClient, PerceptionLoop,
+                             Runtime)
+from ..perception import PerceptionSession
+from ..robot.description import GRIPPER_MAX_WIDTH_M, flange_T_camera
+from ..settings import Settings
+from ..sim.scenes import random_scene, reference_scene
+from ..sim.world import SimWorld
+
+#: The parameter sets a simulated run uses.
+SECTIONS = ("scene_filter", "obb", "camera", "sim", "motion", "scan", "grasp")
+
+
+@dataclass
+class System:
+    """Every running part of one headless session."""
+
+    world: SimWorld
+    loop: PerceptionLoop
+    rt: Runtime
+    motion: MotionClient
+    scanner: ActiveScan
+    action: GraspAction
+    cell: WorkCell
+    start_q: np.ndarray
+    events: EventBus = field(default_factory=EventBus)
+
+    def close(self) -> None:
+        self.world.close()
+
+
+def make_scene(scene: str, seed: int, settings: Settings):
+    """The reference scene (SPEC 8) or a seeded random scene."""
+    if scene == "reference":
+        return reference_scene(settings.sim)
+    if scene == "random":
+        return random_scene(seed, config=settings.sim)
+    raise InputError(f"scene must be 'reference' or 'random', got {scene!r}")
+
+
+def build_system(spec, settings: Settings, events: EventBus | None = None) -> System:
+    """World + camera → perception loop; motion client; scan; grasp action (not started)."""
+    events = events if events is not None else EventBus()
+    if settings.obb.gripper_open > GRIPPER_MAX_WIDTH_M + 1e-9:
+        raise ConfigError(f"obb.gripper_open = {settings.obb.gripper_open} m exceeds the gripper's "
+                          f"opening ({GRIPPER_MAX_WIDTH_M} m, robot description)")
+    world = SimWorld(spec, settings.sim, settings.camera)
+    try:
+        session = PerceptionSession(settings.scene_filter, settings.obb)
+        loop = PerceptionLoop(session, settings.scan, ready_camera_pose=world.camera_pose(),
+                              events=events)
+        world.add_frame_listener(lambda f: loop.on_frame(f, world.q))
+        rt = Runtime(world, events)
+        cell = world.work_cell
+        motion = MotionClient(world, MotionPlanner(settings.motion), cell.fixtures, events)
+        start_q = np.asarray(world.q, float).copy()
+        scanner = ActiveScan(rt, loop, motion, flange_T_camera(world.model), settings.scan)
+        action = GraspAction(rt, loop, motion, settings.grasp, work_cell=cell, home_q=start_q,
+                             events=events)
+    except BaseException:
+        world.close()
+        raise
+    return System(world, loop, rt, motion, scanner, action, cell, start_q, events)

@@ -1,0 +1,100 @@
+"""Ground truth of each pick: how high the object really rose, how long it stayed up, and
+whether it ended in the tray — a subscriber of the run's events (evaluation code only).
+
+On ``StageEvent("pick_start", detail="x y")`` it picks the true object nearest the anchor and
+follows its height on every :class:`~grasp_pipeline.orchestration.events.Tick`; on the
+pick's :class:`~grasp_pipeline.orchestration.events.PickEvent` it fills ``object``,
+``lift_m``, ``held_s`` and ``placed`` of the :class:`~grasp_pipeline.results.PickResult`.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Optional
+
+import numpy as np
+
+from ..orchestration.events import EventBus, PickEvent, StageEvent, Tick
+from ..sim.ground_truth import object_truths
+
+#: The report's "lifted" threshold [m] (an object counts as held while ≥ this above its start).
+MIN_LIFT_EVAL_M = 0.05
+#: An object counts as in the tray up to this far below / above the tray floor [m].
+TRAY_BELOW_M = 0.01
+TRAY_ABOVE_M = 0.15
+
+
+def nearest_truth_name(world, xy) -> Optional[str]:
+    truths = object_truths(world)
+    if not truths:
+        return None
+    d = [np.linalg.norm(t.position_m[:2] - np.asarray(xy)[:2]) for t in truths]
+    return truths[int(np.argmin(d))].name
+
+
+def in_tray(world, name: str) -> bool:
+    """True when object ``name`` lies over the tray floor's footprint, near its height."""
+    cell = world.work_cell
+    floor = cell.tray_floor
+    half = 0.5 * float(floor.extents[0])
+    centre = cell.tray_center_m
+    for t in object_truths(world):
+        if t.name == name:
+            p = t.position_m
+            return bool(abs(p[0] - centre[0]) <= half and abs(p[1] - centre[1]) <= half
+                        and centre[2] - TRAY_BELOW_M <= p[2] <= centre[2] + TRAY_ABOVE_M)
+    return False
+
+
+def lift_figures(samples: list, z0: float, released_at: Optional[float], min_lift_m: float) -> dict:
+    """``lift_m``: highest rise before release; ``held_s``: time at ≥ ``min_lift_m``."""
+    arr = np.asarray(samples, dtype=float).reshape(-1, 2)
+    if released_at is not None:
+        arr = arr[arr[:, 0] <= released_at]
+    if len(arr) < 2:
+        return {"lift_m": 0.0, "held_s": 0.0}
+    rise = arr[:, 1] - z0
+    dt = np.diff(arr[:, 0], append=arr[-1, 0])
+    return {"lift_m": float(rise.max()), "held_s": float(dt[rise >= min_lift_m].sum())}
+
+
+class PickEvaluator:
+    """Subscribe with :meth:`attach`; fills each pick's ground-truth fields."""
+
+    def __init__(self, world) -> None:
+        self.world = world
+        self.name: Optional[str] = None
+        self.z0 = math.nan
+        self.samples: list = []
+
+    def attach(self, events: EventBus) -> "PickEvaluator":
+        events.subscribe(StageEvent, self.on_stage)
+        events.subscribe(Tick, self.on_tick)
+        events.subscribe(PickEvent, self.on_pick)
+        return self
+
+    def on_stage(self, ev: StageEvent) -> None:
+        if ev.name == "pick_start":
+            x, y = (float(v) for v in ev.detail.split())
+            self.name, self.z0, self.samples = nearest_truth_name(self.world, (x, y)), math.nan, []
+
+    def on_tick(self, ev: Tick) -> None:
+        if self.name is None:
+            return
+        for t in object_truths(self.world):
+            if t.name == self.name:
+                z = float(t.position_m[2])
+                self.z0 = z if math.isnan(self.z0) else self.z0
+                self.samples.append((float(ev.time_s), z))
+                return
+
+    def on_pick(self, ev: PickEvent) -> None:
+        row, name = ev.result, self.name
+        self.name = None
+        if name is None:
+            return
+        row.object = name
+        if self.samples and row.stages:
+            fig = lift_figures(self.samples, self.z0, ev.release_time_s, MIN_LIFT_EVAL_M)
+            row.lift_m, row.held_s = fig["lift_m"], fig["held_s"]
+        row.placed = bool(row.placed and in_tray(self.world, name))

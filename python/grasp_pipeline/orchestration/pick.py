@@ -1,0 +1,142 @@
+"""One pick: (re-probe) → select → verify the published grasp → grasp source → grasp action.
+
+:func:`pick_object` is the sequence the run performs for every target position:
+
+1. let ``settle_view_s`` of fresh frames arrive;
+2. re-probe (ours): a NADIR track retires ``nadir_hold_s`` after it was last seen (the camera
+   looks at the tray while placing) and an oblique view misjudges what a grasp needs, so an
+   object whose track is no longer NADIR — or is gone — is measured from above again;
+3. select by position (SPEC 5) and verify that best grasps actually arrive (a dead upstream
+   must not look like success);
+4. ask the :class:`~.grasp_source.GraspSource` for candidates and run the grasp action.
+
+It publishes ``StageEvent("pick_start", "x y")`` when the grasp starts and a
+:class:`~.events.PickEvent` at the end (evaluation subscribers may add ground truth to the
+result before it is reported).
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+
+from .. import _core
+from ..results import PickResult
+from .events import PickEvent, StageEvent
+from .grasp_source import GeometricGraspSource, GraspRequest, GraspSource
+from .scene_model import snapshot
+from .selection import check_selection
+
+log = logging.getLogger("grasp_pipeline.pick")
+
+
+@dataclass
+class PickContext:
+    """The parts a pick uses (built by the composition root)."""
+
+    rt: object            # Runtime
+    loop: object          # PerceptionLoop
+    action: object        # GraspAction
+    scanner: Optional[object]  # ActiveScan (None: no re-probe)
+    settings: object      # Settings: scan, grasp, obb
+    source: GraspSource = GeometricGraspSource()
+    place: bool = True
+
+
+def _reprobe_centre(ctx: PickContext, xy) -> Optional[np.ndarray]:
+    """Where to look from above before picking at ``xy`` (None: the track is NADIR)."""
+    loop = ctx.loop
+    chk = check_selection(float(xy[0]), float(xy[1]), loop.tracks(), loop.gate_m, loop.plane,
+                          loop.selector.fallback_limit_m)
+    track = None if chk.kind in ("far", "nothing") else chk.track
+    if track is not None and track.quality == _core.ViewQuality.NADIR:
+        return None
+    if track is not None:
+        return np.asarray(track.smoothed.center, float)
+    if loop.plane is None:
+        return None
+    n, c = np.asarray(loop.plane.n, float), float(loop.plane.c)  # retired: look where it was
+    return np.array([xy[0], xy[1], -(c + n[0] * xy[0] + n[1] * xy[1]) / n[2]])
+
+
+def reprobe_if_needed(ctx: PickContext, xy, row: PickResult) -> None:
+    centre = _reprobe_centre(ctx, xy)
+    if centre is None or ctx.scanner is None:
+        return
+    res = ctx.scanner.trigger(centres=[centre])
+    if res.accepted:
+        out = ctx.rt.run(ctx.scanner.task, ctx.settings.scan.scan_timeout_s)
+        row.reprobed = bool(out.probes and out.probes[0].nadir)
+        ctx.rt.spin(ctx.settings.scan.settle_view_s)
+
+
+def _select_and_verify(ctx: PickContext, xy, row: PickResult):
+    """The selection result, or None with ``row`` marked as a SELECT failure."""
+    loop, scan_cfg = ctx.loop, ctx.settings.scan
+    sel = loop.select(*xy)
+    if not sel.ok:
+        row.failed_stage, row.message = "SELECT", sel.message
+        return None
+    if not ctx.rt.spin_until(lambda: loop.selector.published >= scan_cfg.select_verify_frames,
+                             scan_cfg.stale_timeout_s):
+        row.failed_stage = "SELECT"
+        row.message = f"selected, but no best grasp arrived within {scan_cfg.stale_timeout_s} s"
+        loop.selector.clear()
+        return None
+    row.selected = sel.message
+    return sel
+
+
+def _candidates(ctx: PickContext, xy, sel) -> list:
+    loop, s = ctx.loop, ctx.settings
+    target = next((t for t in loop.tracks() if t.tid == sel.tid), None)
+    req = GraspRequest(anchor_xy=(float(xy[0]), float(xy[1])), target=target,
+                       published=loop.selector.best_grasp,
+                       scene=snapshot(loop, exclude_tids=ctx.action.lingering_tids()),
+                       max_width_m=s.obb.gripper_open - s.grasp.open_margin_m)
+    return list(ctx.source.propose(req))
+
+
+def _run_action(ctx: PickContext, xy, sel, row: PickResult):
+    """Grasp (and place) with the source's candidates; the action's outcome or None."""
+    rt, loop, action = ctx.rt, ctx.loop, ctx.action
+    try:
+        grasps = _candidates(ctx, xy, sel)
+        if not grasps:
+            row.failed_stage = "GRASP"
+            row.message = f"grasp source {ctx.source.name!r} proposed no grasp"
+            return None
+        ok, msg = action.start(grasps[0], place=ctx.place, alternatives=grasps[1:])
+        if not ok:
+            row.failed_stage, row.message = "GRASP", msg
+            return None
+        # The action holds its goal now: stop re-resolving the anchor (once the object is
+        # lifted there is nothing left to publish there, and that is no news).
+        loop.selector.clear()
+        rt.events.publish(StageEvent(float(rt.world.time_s), "pick_start", f"{xy[0]} {xy[1]}"))
+        return rt.run(action.task, ctx.settings.grasp.pick_timeout_s)
+    finally:
+        loop.selector.clear()
+
+
+def pick_object(ctx: PickContext, xy) -> PickResult:
+    """Pick (and place) the object at ``xy`` [m, world]; see the module doc."""
+    ctx.rt.spin(ctx.settings.scan.settle_view_s)
+    row = PickResult(anchor=[float(xy[0]), float(xy[1])], grasp_source=ctx.source.name)
+    if ctx.scanner is not None:
+        reprobe_if_needed(ctx, xy, row)
+    out = None
+    sel = _select_and_verify(ctx, xy, row)
+    if sel is not None:
+        out = _run_action(ctx, xy, sel, row)
+    if out is not None:
+        row.success, row.failed_stage = out.success, out.failed_stage
+        row.message = out.message or "picked"
+        row.stages, row.stall_gap_m, row.width_m = out.stages, out.stall_gap_m, out.width_m
+        row.placed = bool(out.placed)
+    ctx.rt.events.publish(PickEvent(float(ctx.rt.world.time_s), row,
+                                    None if out is None else out.release_time_s))
+    return row

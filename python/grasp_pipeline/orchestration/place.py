@@ -1,0 +1,147 @@
+"""PLACE (ours) and the recovery after a failed stage, as parts of the grasp action.
+
+PLACE: straight up to the carry height (the planner does not model the object in the hand,
+so it first hangs well above its neighbours), carry above one of the tray's drop slots
+(fingers closing along world x there, clear of the tray walls), lower until the object's
+bottom is ``place_clearance_m`` above the tray floor, open a little beyond the object, go
+up, return to the start joints. A drop while carrying fails PLACE.
+
+Recovery: open, retreat upward (or escape straight up when a retreat cannot start inside a
+clearance), go home; each step best-effort, the arm is never left moving.
+"""
+
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+
+from ..exceptions import GraspPipelineError
+from ..motion.grasp_poses import tcp_rotation
+from ..robot.description import GRIPPER_MAX_WIDTH_M
+from ..robot.protocols import ContactAllowance
+from ..results import GraspOutcome
+from .gripper_moves import ObjectDropped
+from .runtime import wait_s
+
+log = logging.getLogger("grasp_pipeline.grasp")
+
+HELD = ContactAllowance.HELD_OBJECT
+FINGERS = ContactAllowance.FINGERS
+#: Top-down approach and the world x axis: the tray's closing direction.
+_DOWN = np.array([0.0, 0.0, -1.0])
+_WORLD_X = np.array([1.0, 0.0, 0.0])
+
+
+def tray_slot(k: int, dx_m: float, dy_m: float) -> np.ndarray:
+    """Offset of the k-th drop slot from the tray centre: a 2 x 3 grid, then round again."""
+    k = k % 6
+    return np.array([dx_m * (1 if k % 2 == 0 else -1), dy_m * (k // 2 - 1), 0.0])
+
+
+def _carry_up(action, out: GraspOutcome, plane_z_m: float):
+    cfg, robot, motion = action.config, action.robot, action.motion
+    T_up = robot.tcp_pose().copy()
+    if T_up[2, 3] >= plane_z_m + cfg.carry_height_m:
+        return
+    T_up[2, 3] = plane_z_m + cfg.carry_height_m
+    try:
+        yield from action.carrying(motion.line(T_up, kind="carry_up", allow_target_contact=True,
+                                               allowance=HELD), out, "PLACE")
+    except ObjectDropped:
+        raise
+    except GraspPipelineError as exc:  # e.g. a wrist joint near a singularity on the line
+        log.warning("carry_up line not plannable (%s); planning a joint-space motion to the "
+                    "same pose instead", exc)
+        motion.sync()
+        yield from action.carrying(motion.to_pose(T_up, frame="tcp", kind="carry_up",
+                                                  allowance=HELD), out, "PLACE")
+
+
+def _lower(action, out: GraspOutcome, T_above: np.ndarray, slot: np.ndarray):
+    cfg, motion = action.config, action.motion
+    if action._target_height_m is None:
+        return
+    z_release = cfg.place_clearance_m + 0.5 * action._target_height_m + action.backoff_m
+    if z_release >= cfg.place_height_m:
+        return
+    T_down = T_above.copy()
+    T_down[2, 3] = slot[2] + z_release
+    try:
+        yield from action.carrying(motion.line(T_down, kind="place_down", allowance=HELD), out, "PLACE")
+    except ObjectDropped:
+        raise
+    except GraspPipelineError as exc:  # a crowded tray: release from above instead
+        log.warning("could not lower the object into the tray (%s); releasing from %.0f mm",
+                    exc, cfg.place_height_m * 1e3)
+        motion.sync()
+
+
+def place_in_tray(action, out: GraspOutcome):
+    """Task: the PLACE stage of ``action`` (a :class:`~.grasp_action.GraspAction`)."""
+    cfg, robot, motion = action.config, action.robot, action.motion
+    cell = action.work_cell
+    slot = cell.tray_center_m + tray_slot(action.placed_count, cfg.place_slot_dx_m, cfg.place_slot_dy_m)
+    T_above = np.eye(4)
+    T_above[:3, :3] = tcp_rotation(_DOWN, _WORLD_X, robot.tcp_pose())
+    T_above[:3, 3] = slot + np.array([0.0, 0.0, cfg.place_height_m])
+    motion.set_target(None)
+    plane = action.loop.plane
+    yield from _carry_up(action, out, plane.height_m if plane is not None else float(slot[2]))
+    yield from action.carrying(motion.to_pose(T_above, frame="tcp", kind="place", allowance=HELD),
+                               out, "PLACE")
+    yield from _lower(action, out, T_above, slot)
+    out.release_time_s = float(robot.time_s)
+    # Open only a little beyond the object: fully open fingers could reach the tray walls.
+    release_gap = min(GRIPPER_MAX_WIDTH_M, (out.stall_gap_m or 0.0) + cfg.open_margin_m)
+    robot.set_gripper(release_gap, effort_N=cfg.close_effort_N)
+    yield from wait_s(robot, cfg.release_wait_s)
+    action.placed_count += 1
+    motion.planner.set_finger_opening(max(release_gap, robot.finger_gap_m))
+    yield from _leave_tray(action, T_above)
+
+
+def _leave_tray(action, T_above: np.ndarray):
+    cfg, robot, motion = action.config, action.robot, action.motion
+    if float(np.linalg.norm(robot.tcp_pose()[:3, 3] - T_above[:3, 3])) > cfg.gripper_goal_tolerance_m:
+        try:
+            yield from motion.line(T_above, kind="place_up", allowance=FINGERS)
+        except GraspPipelineError as exc:
+            log.warning("place_up not plannable (%s); escaping straight up", exc)
+            motion.sync()
+            yield from motion.escape_up(T_above[2, 3] - robot.tcp_pose()[2, 3])
+    if action.home_q is not None:
+        yield from motion.to_joints(action.home_q, kind="home")
+
+
+def _retreat(action):
+    cfg, robot, motion = action.config, action.robot, action.motion
+    try:
+        n = np.asarray(action.loop.plane.n if action.loop.plane is not None else [0, 0, 1.0])
+        T = robot.tcp_pose().copy()
+        T[:3, 3] += cfg.retreat_height_m * n
+        yield from motion.line(T, kind="retreat", allow_target_contact=True, allowance=FINGERS)
+    except GraspPipelineError as exc:
+        log.warning("retreat not plannable (%s); escaping straight up", exc)
+        motion.sync()
+        try:
+            yield from motion.escape_up(cfg.retreat_height_m)
+        except GraspPipelineError as exc2:
+            log.warning("escape failed: %s", exc2)
+            motion.sync()
+
+
+def recover(action):
+    """Task: open, retreat upward, go home (best effort)."""
+    cfg, robot, motion = action.config, action.robot, action.motion
+    robot.set_gripper(GRIPPER_MAX_WIDTH_M, effort_N=cfg.close_effort_N)
+    motion.sync()
+    yield from wait_s(robot, cfg.release_wait_s)
+    motion.planner.set_finger_opening(GRIPPER_MAX_WIDTH_M)
+    yield from _retreat(action)
+    if action.home_q is not None:
+        try:
+            yield from motion.to_joints(action.home_q, kind="home")
+        except GraspPipelineError as exc:
+            log.warning("return home failed: %s", exc)
+            motion.sync()

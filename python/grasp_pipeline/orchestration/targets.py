@@ -1,0 +1,42 @@
+"""Which perceived objects to pick when the user names none (ours).
+
+Every track over the table top (not over or near the tray: placed objects, its rim) that was
+seen in the rough view or measured from above and passes its grasp checks — nearest to the
+robot base first. Each track left out is listed with the reason (a piece of the tray's rim is
+too wide; a glimpse of the far table from a probe pose was never measured from above).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .. import _core
+from ..motion.work_cell import WorkCell
+
+
+def _skip_reason(track, cell: WorkCell, fixture_margin_m: float, rough_tids: set) -> str | None:
+    c = np.asarray(track.smoothed.center[:2], float)
+    note = cell.pick_target_note(c, fixture_margin_m)
+    if note is None and track.tid not in rough_tids and track.quality != _core.ViewQuality.NADIR:
+        note = (f"#{track.tid} was first seen during the scan ({track.quality.name.lower()} view) "
+                "and never measured from above")
+    if note is None and not track.smoothed.grasp_ok:
+        note = "; ".join(track.smoothed.notes) or "grasp checks failed"
+    return note
+
+
+def default_targets(tracks, cell: WorkCell, fixture_margin_m: float,
+                    rough_tids: set) -> tuple[list[tuple[float, float]], list[dict]]:
+    """(targets (x, y) nearest the base first, skipped tracks with ``tid``/``center``/``why``).
+
+    ``rough_tids``: the tracks of the rough view (the objects the scan set out to measure)."""
+    targets, skipped = [], []
+    for t in tracks:
+        c = np.asarray(t.smoothed.center[:2], float)
+        note = _skip_reason(t, cell, fixture_margin_m, rough_tids)
+        if note is None:
+            targets.append(c)
+        else:
+            skipped.append({"tid": int(t.tid), "center": [float(c[0]), float(c[1])], "why": note})
+    targets.sort(key=lambda c: float(np.hypot(*c)))
+    return [(float(c[0]), float(c[1])) for c in targets], skipped

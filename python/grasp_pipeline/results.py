@@ -1,0 +1,138 @@
+"""Typed results of the pipeline: a scan, a grasp, a pick, a whole run.
+
+Plain dataclasses, written to JSON only by :mod:`grasp_pipeline.report.serialize` (the one
+serializer: valid JSON, ``null`` for undefined numbers). Units in the field names; times in
+simulated seconds unless named ``wall``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Optional
+
+#: ``RunReport.status`` values.
+STATUS_RUNNING = "running"
+STATUS_COMPLETE = "complete"
+STATUS_FAILED = "failed"
+STATUS_INTERRUPTED = "interrupted"
+
+
+@dataclass
+class TrackSummary:
+    """One tracked object as the report shows it."""
+
+    tid: int
+    quality: str
+    pca_tilt_deg: float
+    center: list
+    extents: list
+    theta_deg: float
+    grasp_ok: bool
+    notes: list = field(default_factory=list)
+
+
+@dataclass
+class ProbeResult:
+    """One object's probe in the active scan."""
+
+    index: int
+    rough_center: list
+    tid: Optional[int] = None
+    nadir: bool = False
+    message: str = ""
+    view_angles_deg: dict = field(default_factory=dict)
+
+
+@dataclass
+class ScanOutcome:
+    """What the scan task returns."""
+
+    probes: list = field(default_factory=list)   # ProbeResult
+    completed: bool = False
+    returned_to_start: bool = False
+    joint_error_rad: Optional[float] = None
+    failure: str = ""
+    start_q: Optional[list] = None
+
+
+@dataclass
+class GraspOutcome:
+    """What the grasp action returns."""
+
+    success: bool = False
+    failed_stage: Optional[str] = None
+    message: str = ""
+    stall_gap_m: Optional[float] = None
+    placed: bool = False
+    stages: list = field(default_factory=list)  # (stage, sim time at entry [s])
+    width_m: Optional[float] = None
+    release_time_s: Optional[float] = None  # when the gripper opened to place / recover
+    candidate: Optional[int] = None          # which grasp candidate was executed (0-based)
+
+
+@dataclass
+class ViewReport:
+    """The perceived scene at one moment of the run (rough view, after the scan)."""
+
+    tracks: list = field(default_factory=list)   # TrackSummary
+    scores: list = field(default_factory=list)   # ground-truth scores (evaluation), per object
+    snapshot: Optional[str] = None
+
+
+@dataclass
+class ScanReport(ViewReport):
+    trigger: str = ""
+    completed: bool = False
+    returned_to_start: bool = False
+    joint_error_rad: Optional[float] = None
+    failure: str = ""
+    probes: list = field(default_factory=list)   # ProbeResult
+
+
+@dataclass
+class PickResult:
+    """One pick of the run (selection → grasp → place), with its evaluation."""
+
+    anchor: list
+    success: bool = False
+    failed_stage: Optional[str] = None
+    message: str = ""
+    lift_m: float = 0.0
+    held_s: float = 0.0
+    placed: bool = False
+    stages: list = field(default_factory=list)
+    stall_gap_m: Optional[float] = None
+    width_m: Optional[float] = None
+    selected: str = ""
+    object: Optional[str] = None
+    reprobed: Optional[bool] = None
+    grasp_source: str = ""
+
+
+@dataclass
+class RunReport:
+    """The whole run; ``status`` says whether it completed, failed or was interrupted."""
+
+    scene: dict
+    settings: dict
+    status: str = STATUS_RUNNING
+    error: Optional[str] = None
+    plane: Optional[dict] = None
+    rough: Optional[ViewReport] = None
+    scan: Optional[ScanReport] = None
+    targets_skipped: list = field(default_factory=list)
+    picks: list = field(default_factory=list)        # PickResult
+    motion_plans: list = field(default_factory=list)
+    video: Optional[str] = None
+    warnings: list = field(default_factory=list)
+    timings: dict = field(default_factory=dict)
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def all_picked(self) -> bool:
+        return bool(self.picks) and all(p.success for p in self.picks)
+
+    def to_dict(self) -> dict[str, Any]:
+        from .report.serialize import to_jsonable
+
+        return to_jsonable(self)

@@ -1,0 +1,44 @@
+"""The fixed third-person view of the work cell that the run's video shows.
+
+:class:`SceneView` renders the simulated world from a free camera (robot, table and tray in
+view) through :func:`~.gl_backend.new_renderer`; where no GL context can exist it raises
+:class:`~.exceptions.RenderUnavailable` at construction, and the caller skips the video.
+"""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+from .gl_backend import new_renderer
+
+VIEW_LOOKAT_M = (0.35, 0.2, 0.3)
+VIEW_DISTANCE_M = 2.1
+VIEW_AZIMUTH_DEG = 35.0   # from the robot's right-front: arm, table and tray in view
+VIEW_ELEVATION_DEG = -28.0
+
+
+class SceneView:
+    """``render()`` → (H, W, 3) uint8 image of the world now."""
+
+    def __init__(self, world, width_px: int = 640, height_px: int = 480) -> None:
+        self.world = world
+        self.renderer = new_renderer(world.model, height_px, width_px)
+        cam = mujoco.MjvCamera()
+        cam.type = mujoco.mjtCamera.mjCAMERA_FREE
+        cam.lookat[:] = VIEW_LOOKAT_M
+        cam.distance = VIEW_DISTANCE_M
+        cam.azimuth = VIEW_AZIMUTH_DEG
+        cam.elevation = VIEW_ELEVATION_DEG
+        self.cam = cam
+
+    def render(self) -> np.ndarray:
+        if self.renderer is None:
+            raise RuntimeError("SceneView is closed")
+        self.renderer.update_scene(self.world.data, camera=self.cam)
+        return np.asarray(self.renderer.render())
+
+    def close(self) -> None:
+        if self.renderer is not None:
+            self.renderer.close()
+            self.renderer = None

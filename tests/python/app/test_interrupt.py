@@ -1,0 +1,39 @@
+"""Ctrl-C or SIGTERM during a run: the arm holds, the report says "interrupted" and keeps
+everything done so far; it replaces an earlier complete report atomically."""
+
+import json
+import signal
+import subprocess
+import time
+
+import pytest
+
+from .test_entry_points import EXE, clean_env
+
+pytestmark = pytest.mark.skipif(not EXE.exists(), reason="needs the installed console script")
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
+def test_a_signal_mid_run_leaves_an_interrupted_report(sig, tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "report.json").write_text(json.dumps({"status": "complete", "picks": [1, 2, 3]}))
+    proc = subprocess.Popen([str(EXE), "run", "--scene", "reference", "--no-video", "--out", "out"],
+                            cwd=tmp_path, env=clean_env(None, tmp_path), stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, stdin=subprocess.DEVNULL)
+    seen = ""
+    t_end = time.monotonic() + 600
+    while "grasp stage PRE_GRASP" not in seen and time.monotonic() < t_end:
+        line = proc.stderr.readline()
+        if not line:
+            break
+        seen += line
+    assert "grasp stage PRE_GRASP" in seen, seen[-3000:]
+    proc.send_signal(sig)
+    _, rest = proc.communicate(timeout=120)
+    assert proc.returncode == 130, (seen + rest)[-3000:]
+    assert "Traceback" not in rest
+    report = json.loads((out / "report.json").read_text())
+    assert report["status"] == "interrupted"
+    assert report["scan"]["completed"] and len(report["rough"]["tracks"]) == 3
+    assert "interrupted" in report["error"]

@@ -1,0 +1,63 @@
+"""The one serializer: valid JSON from typed results, atomic writes, clear errors."""
+
+import json
+import math
+import os
+from dataclasses import dataclass, field
+
+import numpy as np
+import pytest
+
+from grasp_pipeline.report.serialize import OutputError, check_writable, dumps, to_jsonable, write_json
+from grasp_pipeline.results import PickResult, RunReport, ScanReport, TrackSummary
+
+
+@dataclass
+class _Inner:
+    value: float = math.nan
+    arr: np.ndarray = field(default_factory=lambda: np.array([1.0, np.inf, 2.0]))
+
+
+def test_non_finite_numbers_become_null_and_the_text_is_strict_json():
+    text = dumps({"a": math.nan, "b": -math.inf, "c": np.float32(1.5), "d": _Inner(), "e": (1, 2)})
+    data = json.loads(text, parse_constant=lambda c: pytest.fail(f"{c} in JSON"))
+    assert data == {"a": None, "b": None, "c": 1.5, "d": {"value": None, "arr": [1.0, None, 2.0]}, "e": [1, 2]}
+
+
+def test_typed_results_serialize_with_their_field_names():
+    report = RunReport(scene={"name": "x"}, settings={}, picks=[PickResult(anchor=[0.5, 0.0])],
+                       scan=ScanReport(tracks=[TrackSummary(1, "NADIR", 0.1, [0, 0, 0], [1, 1, 1], 0.0, True)]))
+    data = to_jsonable(report)
+    assert data["picks"][0]["anchor"] == [0.5, 0.0] and data["status"] == "running"
+    assert data["scan"]["tracks"][0]["quality"] == "NADIR"
+
+
+def test_write_json_replaces_a_file_atomically(tmp_path):
+    path = tmp_path / "report.json"
+    write_json(path, {"run": 1})
+    write_json(path, {"run": 2})
+    assert json.loads(path.read_text()) == {"run": 2}
+    assert [p.name for p in tmp_path.iterdir()] == ["report.json"]  # no temporary left
+
+
+def test_a_failed_write_keeps_the_previous_file_and_names_the_path(tmp_path, monkeypatch):
+    path = tmp_path / "report.json"
+    write_json(path, {"run": 1})
+
+    def full_disk(*a, **k):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(os, "fsync", full_disk)
+    with pytest.raises(OutputError, match="report.json.*No space left"):
+        write_json(path, {"run": 2})
+    assert json.loads(path.read_text()) == {"run": 1}
+    assert [p.name for p in tmp_path.iterdir()] == ["report.json"]
+
+
+def test_unwritable_outputs_are_found_before_any_work(tmp_path):
+    with pytest.raises(OutputError, match="is a directory"):
+        check_writable(tmp_path)
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    with pytest.raises(OutputError, match="cannot write"):
+        check_writable(blocker / "sub" / "report.json")
