@@ -14,7 +14,6 @@ PY := $(VENV)/bin/python
 PIP := $(VENV)/bin/pip
 GTEST_BUILD := build/gtest
 JOBS ?= 2
-export MUJOCO_GL ?= egl
 
 APT_PACKAGES := build-essential cmake python3-dev python3-venv libpcl-dev libeigen3-dev \
 	libgtest-dev libegl1 libegl-mesa0 libgl1-mesa-dri libosmesa6

@@ -88,10 +88,22 @@ inline PointsView points_view(const py::object& obj, const char* name, bool allo
   return v;
 }
 
-/// Copy to PointsD, dropping non-finite rows (their count goes to *dropped).
+/// The max_abs_coordinate_m argument of a fine-grained function.
+inline double checked_bound(double bound, const char* name = "max_abs_coordinate_m") {
+  if (!(bound > 0 && bound <= grasp_core::kMaxAbsCoordinateLimit_m)) {
+    std::ostringstream os;
+    os << name << ": expected a coordinate bound in (0, 1e9] m, got " << bound;
+    throw py::value_error(os.str());
+  }
+  return bound;
+}
+
+/// Copy to PointsD, dropping rows with a NaN/Inf or a |coordinate| > bound (their count
+/// goes to *dropped).
 inline grasp_core::PointsD points_double(const py::object& obj, const char* name,
                                          std::size_t* dropped = nullptr,
-                                         bool allow_empty = false) {
+                                         bool allow_empty = false,
+                                         double bound = grasp_core::kDefaultMaxAbsCoordinate_m) {
   PointsView v = points_view(obj, name, allow_empty);
   std::vector<double> buf;
   buf.reserve(v.rows * 3);
@@ -105,7 +117,7 @@ inline grasp_core::PointsD points_double(const py::object& obj, const char* name
       const double* p = static_cast<const double*>(v.data) + r * v.row_stride;
       x = p[0]; y = p[1]; z = p[2];
     }
-    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) { ++bad; continue; }
+    if (!grasp_core::within_bound(x, y, z, bound)) { ++bad; continue; }
     buf.push_back(x); buf.push_back(y); buf.push_back(z);
   }
   if (dropped) *dropped = bad;

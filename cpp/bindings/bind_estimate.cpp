@@ -3,9 +3,11 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <climits>
 #include <cmath>
 
 #include "array_input.hpp"
+#include "guarded.hpp"
 #include "grasp_core/grasp.hpp"
 #include "grasp_core/object_estimate.hpp"
 #include "grasp_core/pca_box.hpp"
@@ -28,8 +30,8 @@ std::optional<double> finite_opt(const std::optional<double>& x, const char* nam
   return x;
 }
 
-void check_n_theta(int n_theta) {
-  if (n_theta < 2 || n_theta > 100000) throw py::value_error("n_theta: expected an integer in [2, 100000]");
+int checked_n_theta(const py::object& n_theta) {
+  return static_cast<int>(int_arg(n_theta, "n_theta", 2, 100000));
 }
 
 }  // namespace
@@ -42,22 +44,25 @@ void bind_estimate(py::module_& m) {
       .def_readonly("eigenvalues", &PcaBox::eigenvalues);
 
   m.def("pca_box",
-        [](const py::object& points) -> py::object {
-          PointsD pts = points_double(points, "points", nullptr, /*allow_empty=*/true);
+        [](const py::object& points, double bound) -> py::object {
+          PointsD pts = points_double(points, "points", nullptr, /*allow_empty=*/true, checked_bound(bound));
           std::string why;
           auto box = pca_box(pts, &why);
           if (!box) return py::none();
           return py::cast(*box);
         },
-        py::arg("points"), "PCA box of the finite rows, or None (fewer than 3 points, coincident, collinear).");
+        py::arg("points"), py::arg("max_abs_coordinate_m") = kDefaultMaxAbsCoordinate_m,
+        "PCA box of the rows that are finite and within max_abs_coordinate_m, or None (fewer "
+        "than 3 points, coincident, collinear).");
   m.def("pca_box_failure",
-        [](const py::object& points) {
-          PointsD pts = points_double(points, "points", nullptr, true);
+        [](const py::object& points, double bound) {
+          PointsD pts = points_double(points, "points", nullptr, true, checked_bound(bound));
           std::string why;
           auto box = pca_box(pts, &why);
           return box ? std::string() : why;
         },
-        py::arg("points"), "Why pca_box() gives None ('' when it succeeds).");
+        py::arg("points"), py::arg("max_abs_coordinate_m") = kDefaultMaxAbsCoordinate_m,
+        "Why pca_box() gives None ('' when it succeeds).");
   m.def("pca_tilt_deg", [](const PcaBox& b, const py::object& n) { return pca_tilt_deg(b, vec3(n, "n")); },
         py::arg("box"), py::arg("n"), "angle(PCA minor axis, n) [deg]");
 
@@ -98,17 +103,21 @@ void bind_estimate(py::module_& m) {
       .def_readonly("failure", &EstimateResult::failure);
 
   m.def("estimate_object",
-        [](const py::object& points, const Plane& plane, const ObbParams& params,
-           std::optional<double> theta_prev, std::optional<double> band) {
+        [](const py::object& points, const Plane& plane, const ObbParams& params_in,
+           std::optional<double> theta_prev, std::optional<double> band, double bound) {
+          const ObbParams params = params_in;  // copied: another thread may assign its fields
           params.validate();
-          PointsD pts = points_double(points, "points");
+          PointsD pts = points_double(points, "points", nullptr, false, checked_bound(bound));
           finite_opt(theta_prev, "theta_prev");
           finite_opt(band, "band");
           py::gil_scoped_release release;
-          return estimate_object(pts, plane, params, theta_prev, band);
+          return estimate_object(pts, plane, params, theta_prev, band, bound);
         },
         py::arg("points"), py::arg("plane"), py::arg("params"), py::arg("theta_prev") = py::none(),
-        py::arg("band") = py::none(), "SPEC 2: estimate one cluster above the plane.");
+        py::arg("band") = py::none(), py::arg("max_abs_coordinate_m") = kDefaultMaxAbsCoordinate_m,
+        "SPEC 2: estimate one cluster above the plane (rows with a NaN/Inf or a |coordinate| > "
+        "max_abs_coordinate_m are dropped). No estimate (failure text) for fewer than 3 points, "
+        "a failed PCA, or a cluster whose top is below the plane.");
 
   m.def("in_plane_basis", [](const py::object& n) {
           Vec3 nv = vec3(n, "n");
@@ -117,12 +126,14 @@ void bind_estimate(py::module_& m) {
           in_plane_basis(nv, &u, &v);
           return py::make_tuple(u, v);
         }, py::arg("n"), "Deterministic (u, v) with u x v = n.");
-  m.def("scan_angle_rad", [](int t, int n_theta) { check_n_theta(n_theta); return scan_angle_rad(t, n_theta); },
-        py::arg("t"), py::arg("n_theta"));
-  m.def("width_scan", [](const std::vector<double>& a, const std::vector<double>& b, int n_theta) {
+  m.def("scan_angle_rad", [](const py::object& t, const py::object& n_theta) {
+          const int T = checked_n_theta(n_theta);
+          return scan_angle_rad(static_cast<int>(int_arg(t, "t", INT_MIN, INT_MAX)), T);
+        }, py::arg("t"), py::arg("n_theta"));
+  m.def("width_scan", [](const std::vector<double>& a, const std::vector<double>& b, const py::object& n_theta) {
           if (a.size() != b.size()) throw py::value_error("a, b: expected the same length");
-          check_n_theta(n_theta);
-          return width_scan(finite_list(a, "a"), finite_list(b, "b"), n_theta);
+          const int T = checked_n_theta(n_theta);
+          return width_scan(finite_list(a, "a"), finite_list(b, "b"), T);
         }, py::arg("a"), py::arg("b"), py::arg("n_theta"), "ext(theta_t) for t = 0..n_theta-1 [m]");
   m.def("extent_along", [](const std::vector<double>& a, const std::vector<double>& b, double theta) {
           if (a.size() != b.size()) throw py::value_error("a, b: expected the same length");
@@ -158,10 +169,10 @@ void bind_estimate(py::module_& m) {
         "Median; an even count gives the mean of the two middle values.");
   m.def("angle_dist_mod_pi", &angle_dist_mod_pi, py::arg("a_rad"), py::arg("b_rad"));
   m.def("wrap_mod_pi", &wrap_mod_pi, py::arg("x_rad"));
-  m.def("slice_median_top", [](const std::vector<double>& d, double sigma, double k, int iters) {
-          if (!(sigma > 0)) throw py::value_error("sigma_m: expected > 0");
-          if (!(k > 0)) throw py::value_error("slice_sigmas: expected > 0");
-          if (iters < 1 || iters > 1000) throw py::value_error("iters: expected [1, 1000]");
+  m.def("slice_median_top", [](const std::vector<double>& d, double sigma, double k, const py::object& iters_obj) {
+          if (!(sigma > 0 && std::isfinite(sigma))) throw py::value_error("sigma_m: expected a finite sigma > 0");
+          if (!(k > 0 && std::isfinite(k))) throw py::value_error("slice_sigmas: expected a finite count > 0");
+          const int iters = static_cast<int>(int_arg(iters_obj, "iters", 1, 1000));
           return slice_median_top(finite_list(d, "d"), sigma, k, iters);
         }, py::arg("d"), py::arg("sigma_m"), py::arg("slice_sigmas"), py::arg("iters"));
 

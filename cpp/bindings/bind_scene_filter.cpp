@@ -4,7 +4,10 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <climits>
+
 #include "array_input.hpp"
+#include "guarded.hpp"
 #include "grasp_core/clustering.hpp"
 #include "grasp_core/plane_fit.hpp"
 #include "grasp_core/plane_persistence.hpp"
@@ -40,10 +43,6 @@ PointsD as_points_d(const PointsView& v) {
   return d;
 }
 
-std::uint64_t checked_seed(long long seed) {
-  if (seed < 0) throw py::value_error("seed: expected a non-negative integer");
-  return static_cast<std::uint64_t>(seed);
-}
 
 }  // namespace
 
@@ -55,17 +54,21 @@ void bind_scene_filter(py::module_& m) {
       .def_readonly("refined", &PlaneFit::refined)
       .def_readonly("iterations", &PlaneFit::iterations);
 
+  // Parameter structs are copied before the GIL is released: another thread may assign
+  // their fields meanwhile.
   m.def("fit_plane_ransac",
-        [](const py::object& points, const SceneFilterParams& params, long long seed) {
+        [](const py::object& points, const SceneFilterParams& params_in, const py::object& seed) {
+          const SceneFilterParams params = params_in;
           params.validate();
-          PointsD pts = points_double(points, "points");
-          const std::uint64_t s = checked_seed(seed);
+          const std::uint64_t s = seed_arg(seed, "seed");
+          PointsD pts = points_double(points, "points", nullptr, false, params.max_abs_coordinate_m);
           py::gil_scoped_release release;
           return fit_plane_ransac(pts, params, s);
         },
         py::arg("points"), py::arg("params"), py::arg("seed") = 0,
         "SPEC 1.1: one horizontal-constrained RANSAC plane (PCL sample consensus) with "
-        "least-squares refinement and the post-refinement tilt re-check. None if no model.");
+        "least-squares refinement and the post-refinement tilt re-check, on the rows that are "
+        "finite and within params.max_abs_coordinate_m. None if no model.");
 
   py::class_<PlaneCandidate>(m, "PlaneCandidate", "One plane of the sequential extraction")
       .def_readonly("plane", &PlaneCandidate::plane)
@@ -80,17 +83,19 @@ void bind_scene_filter(py::module_& m) {
       });
 
   m.def("extract_planes",
-        [](const py::object& points, const SceneFilterParams& params, long long seed) {
+        [](const py::object& points, const SceneFilterParams& params_in, const py::object& seed) {
+          const SceneFilterParams params = params_in;
           params.validate();
+          const std::uint64_t s = seed_arg(seed, "seed");
           PointsView v = points_view(points, "points");
-          const std::uint64_t s = checked_seed(seed);
           py::gil_scoped_release release;
           if (v.is_float)
             return extract_planes(static_cast<const float*>(v.data), v.rows, v.row_stride, params, s);
           return extract_planes(as_points_d(v), params, s);
         },
         py::arg("points"), py::arg("params"), py::arg("seed") = 0,
-        "SPEC 1.2: sequential plane extraction; counts are on the whole cloud.");
+        "SPEC 1.2: sequential plane extraction on the rows that are finite and within "
+        "params.max_abs_coordinate_m; counts are on the whole cloud.");
 
   m.def("choose_table", [](const std::vector<PlaneCandidate>& planes, double dominance) {
           if (!(dominance > 0 && dominance <= 1)) throw py::value_error("dominance: expected (0, 1]");
@@ -113,13 +118,18 @@ void bind_scene_filter(py::module_& m) {
       })
       .def_readonly("clusters", &ClusterResult::clusters)
       .def_readonly("num_accepted", &ClusterResult::num_accepted)
-      .def_readonly("num_components", &ClusterResult::num_components);
+      .def_readonly("num_components", &ClusterResult::num_components)
+      .def_readonly("num_invalid", &ClusterResult::num_invalid,
+                    "rows labelled LABEL_INVALID: NaN/Inf or beyond max_abs_coordinate_m")
+      .def_readonly("num_out_of_range", &ClusterResult::num_out_of_range,
+                    "of num_invalid: finite rows with a |coordinate| > max_abs_coordinate_m");
 
   m.def("euclidean_clusters",
-        [](const py::object& points, double eps_m, int min_points, double min_extent_m,
-           double max_extent_m, double voxel_m) {
+        [](const py::object& points, double eps_m, const py::object& min_points_obj,
+           double min_extent_m, double max_extent_m, double voxel_m, double bound) {
           if (!(eps_m > 0 && eps_m <= 1.0)) throw py::value_error("eps_m: expected a radius in (0, 1] m");
-          if (min_points < 1) throw py::value_error("min_points: expected an integer >= 1");
+          const int min_points = static_cast<int>(int_arg(min_points_obj, "min_points", 1, INT_MAX));
+          checked_bound(bound);
           if (!(min_extent_m >= 0)) throw py::value_error("min_extent_m: expected >= 0");
           if (!std::isfinite(max_extent_m)) throw py::value_error("max_extent_m: must be finite");
           if (!(voxel_m >= 0 && voxel_m < eps_m)) throw py::value_error("voxel_m: expected [0, eps_m)");
@@ -127,13 +137,15 @@ void bind_scene_filter(py::module_& m) {
           py::gil_scoped_release release;
           if (v.is_float)
             return euclidean_clusters(static_cast<const float*>(v.data), v.rows, v.row_stride, eps_m,
-                                      min_points, min_extent_m, max_extent_m, voxel_m);
+                                      min_points, min_extent_m, max_extent_m, voxel_m, bound);
           return euclidean_clusters(as_points_d(v), eps_m, min_points, min_extent_m, max_extent_m,
-                                    voxel_m);
+                                    voxel_m, bound);
         },
         py::arg("points"), py::arg("eps_m"), py::arg("min_points"), py::arg("min_extent_m"),
         py::arg("max_extent_m"), py::arg("voxel_m") = 0.0,
-        "SPEC 1.4: Euclidean clusters (PCL semantics) with extent filters; labels for every row.");
+        py::arg("max_abs_coordinate_m") = kDefaultMaxAbsCoordinate_m,
+        "SPEC 1.4: Euclidean clusters (PCL semantics) with extent filters; labels for every row "
+        "(LABEL_INVALID for NaN/Inf rows and rows with a |coordinate| > max_abs_coordinate_m).");
 
   py::enum_<FrameEvent::Level>(m, "EventLevel")
       .value("DEBUG", FrameEvent::Level::kDebug)
@@ -175,15 +187,25 @@ void bind_scene_filter(py::module_& m) {
   m.def("planes_close", &planes_close, py::arg("a"), py::arg("b"), py::arg("tol_deg"),
         py::arg("tol_m"), "SPEC 1.5 closeness: normal angle <= tol_deg and height diff <= tol_m");
 
-  py::class_<PlanePersistence>(m, "PlanePersistence", "SPEC 1.5 plane persistence state machine")
-      .def(py::init<const SceneFilterParams&>(), py::arg("params"))
-      .def("update", &PlanePersistence::update, py::arg("fit"),
-           "Feed this frame's fit (None: no plane this frame).")
-      .def_property_readonly("state", [](const PlanePersistence& p) { return PersistenceState(p.state()); },
-                             "a snapshot (copy) of the lock state")
-      .def_property_readonly("locked", &PlanePersistence::locked)
-      .def_property_readonly("hardened", &PlanePersistence::hardened)
-      .def("reset", &PlanePersistence::reset);
+  using GPersistence = Guarded<PlanePersistence>;
+  py::class_<GPersistence>(m, "PlanePersistence",
+                           "SPEC 1.5 plane persistence state machine. Thread-safe: calls from "
+                           "several threads are serialised by a mutex (the GIL is released while "
+                           "waiting); a view (SceneFilter.persistence) shares its owner's mutex.")
+      .def(py::init([](const SceneFilterParams& p) { return GPersistence::make(p); }), py::arg("params"))
+      .def("update", [](const GPersistence& g, const std::optional<Plane>& fit) {
+             return locked(g, [&](PlanePersistence& p) { return p.update(fit); });
+           }, py::arg("fit"), "Feed this frame's fit (None: no plane this frame).")
+      .def_property_readonly("state", [](const GPersistence& g) {
+             return locked(g, [](PlanePersistence& p) { return PersistenceState(p.state()); });
+           }, "a snapshot (copy) of the lock state")
+      .def_property_readonly("locked", [](const GPersistence& g) {
+             return locked(g, [](PlanePersistence& p) { return p.locked(); });
+           })
+      .def_property_readonly("hardened", [](const GPersistence& g) {
+             return locked(g, [](PlanePersistence& p) { return p.hardened(); });
+           })
+      .def("reset", [](const GPersistence& g) { locked(g, [](PlanePersistence& p) { p.reset(); }); });
 
   py::class_<SceneFilterResult>(m, "SceneFilterResult", "Everything the scene filter computed for one frame")
       .def_property_readonly("labels", [](py::object self) {
@@ -196,8 +218,14 @@ void bind_scene_filter(py::module_& m) {
       .def_readonly("band", &SceneFilterResult::band)
       .def_readonly("planes", &SceneFilterResult::planes)
       .def_readonly("table_index", &SceneFilterResult::table_index)
-      .def_readonly("num_valid", &SceneFilterResult::num_valid)
-      .def_readonly("num_invalid", &SceneFilterResult::num_invalid)
+      .def_readonly("num_valid", &SceneFilterResult::num_valid,
+                    "rows used: finite and within max_abs_coordinate_m")
+      .def_readonly("num_invalid", &SceneFilterResult::num_invalid,
+                    "rows dropped (LABEL_INVALID): NaN/Inf, or a |coordinate| > max_abs_coordinate_m")
+      .def_readonly("num_out_of_range", &SceneFilterResult::num_out_of_range,
+                    "of num_invalid: finite rows with a |coordinate| > max_abs_coordinate_m")
+      .def_readonly("max_abs_coordinate_m", &SceneFilterResult::max_abs_coordinate_m,
+                    "the coordinate bound applied this frame [m]")
       .def_readonly("num_candidates", &SceneFilterResult::num_candidates)
       .def_readonly("cluster_ids", &SceneFilterResult::cluster_ids)
       .def_readonly("clusters", &SceneFilterResult::clusters)
@@ -208,20 +236,35 @@ void bind_scene_filter(py::module_& m) {
       .def_readonly("ms_cluster", &SceneFilterResult::ms_cluster)
       .def_readonly("ms_total", &SceneFilterResult::ms_total);
 
-  py::class_<SceneFilter>(m, "SceneFilter", "The per-frame scene filter (SPEC 1); owns the plane lock")
-      .def(py::init<const SceneFilterParams&>(), py::arg("params"))
+  using GFilter = Guarded<SceneFilter>;
+  py::class_<GFilter>(m, "SceneFilter",
+                      "The per-frame scene filter (SPEC 1); owns the plane lock. Thread-safe: "
+                      "calls from several threads are serialised by a mutex (the GIL is released "
+                      "while waiting and while processing); a view (Perception.scene_filter) "
+                      "shares its owner's mutex.")
+      .def(py::init([](const SceneFilterParams& p) { return GFilter::make(p); }), py::arg("params"))
       .def("process",
-           [](SceneFilter& f, const py::object& points) {
+           [](const GFilter& g, const py::object& points) {
              PointsView v = points_view(points, "points");
-             py::gil_scoped_release release;
-             return with_view(v, [&](auto* p) { return f.process(p, v.rows, v.row_stride); });
+             return locked(g, [&](SceneFilter& f) {
+               return with_view(v, [&](auto* p) { return f.process(p, v.rows, v.row_stride); });
+             });
            },
-           py::arg("points"), "Process one (N,3) float32/float64 frame in world coordinates.")
-      .def_property_readonly("persistence", &SceneFilter::persistence, py::return_value_policy::reference_internal)
-      .def_property_readonly("params", [](const SceneFilter& f) { return SceneFilterParams(f.params()); },
-                             "a copy of the parameters (validated at construction)")
-      .def_property_readonly("frame_index", &SceneFilter::frame_index)
-      .def("reset", &SceneFilter::reset);
+           py::arg("points"),
+           "Process one (N,3) float32/float64 frame in world coordinates. Rows with a NaN/Inf "
+           "or a |coordinate| > params.max_abs_coordinate_m are dropped and counted "
+           "(num_invalid, num_out_of_range).")
+      .def_property_readonly("persistence", [](const GFilter& g) {
+             // A view into this filter: const access in C++, serialised by the same mutex.
+             return g.view(const_cast<PlanePersistence&>(g.obj->persistence()));
+           }, "the plane persistence (a view sharing this filter's lifetime and mutex)")
+      .def_property_readonly("params", [](const GFilter& g) {
+             return locked(g, [](SceneFilter& f) { return SceneFilterParams(f.params()); });
+           }, "a copy of the parameters (validated at construction)")
+      .def_property_readonly("frame_index", [](const GFilter& g) {
+             return locked(g, [](SceneFilter& f) { return f.frame_index(); });
+           })
+      .def("reset", [](const GFilter& g) { locked(g, [](SceneFilter& f) { f.reset(); }); });
 }
 
 }  // namespace grasp_bind

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "array_input.hpp"
+#include "guarded.hpp"
 #include "grasp_core/params.hpp"
 #include "grasp_core/types.hpp"
 
@@ -93,51 +94,54 @@ void bind_types(py::module_& m) {
       .def_readonly("R", &Pose::R)
       .def_readonly("t", &Pose::t);
 
-  py::class_<SceneFilterParams>(m, "SceneFilterParams", "SPEC 1.6 scene filter parameters")
-      .def(py::init<>())
-      .def_readwrite("plane_dist_thresh", &SceneFilterParams::plane_dist_thresh)
-      .def_readwrite("plane_max_tilt_deg", &SceneFilterParams::plane_max_tilt_deg)
-      .def_readwrite("plane_ransac_iters", &SceneFilterParams::plane_ransac_iters)
-      .def_readwrite("plane_fit_max_points", &SceneFilterParams::plane_fit_max_points)
-      .def_readwrite("plane_min_inlier_ratio", &SceneFilterParams::plane_min_inlier_ratio)
-      .def_readwrite("plane_max_count", &SceneFilterParams::plane_max_count)
-      .def_readwrite("plane_dominance", &SceneFilterParams::plane_dominance)
-      .def_readwrite("plane_lock", &SceneFilterParams::plane_lock)
-      .def_readwrite("plane_lock_after", &SceneFilterParams::plane_lock_after)
-      .def_readwrite("plane_update_tol_deg", &SceneFilterParams::plane_update_tol_deg)
-      .def_readwrite("plane_update_tol_m", &SceneFilterParams::plane_update_tol_m)
-      .def_readwrite("plane_init_frames", &SceneFilterParams::plane_init_frames)
-      .def_readwrite("cluster_eps", &SceneFilterParams::cluster_eps)
-      .def_readwrite("cluster_min_points", &SceneFilterParams::cluster_min_points)
-      .def_readwrite("cluster_min_extent", &SceneFilterParams::cluster_min_extent)
-      .def_readwrite("cluster_max_extent", &SceneFilterParams::cluster_max_extent)
-      .def_readwrite("band", &SceneFilterParams::band)
-      .def_readwrite("cluster_voxel_m", &SceneFilterParams::cluster_voxel_m)
-      .def_readwrite("seed", &SceneFilterParams::seed)
-      .def("validate", &SceneFilterParams::validate,
-           "Raise ValueError naming the first invalid parameter.");
+  // Setters check the Python value and name the field (TypeError for a wrong type,
+  // ValueError for an int beyond the C++ type); ranges are checked by validate().
+  py::class_<SceneFilterParams> sfp(m, "SceneFilterParams", "SPEC 1.6 scene filter parameters");
+  sfp.def(py::init<>());
+  float_field(sfp, "plane_dist_thresh", &SceneFilterParams::plane_dist_thresh);
+  float_field(sfp, "plane_max_tilt_deg", &SceneFilterParams::plane_max_tilt_deg);
+  int_field(sfp, "plane_ransac_iters", &SceneFilterParams::plane_ransac_iters);
+  int_field(sfp, "plane_fit_max_points", &SceneFilterParams::plane_fit_max_points);
+  float_field(sfp, "plane_min_inlier_ratio", &SceneFilterParams::plane_min_inlier_ratio);
+  int_field(sfp, "plane_max_count", &SceneFilterParams::plane_max_count);
+  float_field(sfp, "plane_dominance", &SceneFilterParams::plane_dominance);
+  bool_field(sfp, "plane_lock", &SceneFilterParams::plane_lock);
+  int_field(sfp, "plane_lock_after", &SceneFilterParams::plane_lock_after);
+  float_field(sfp, "plane_update_tol_deg", &SceneFilterParams::plane_update_tol_deg);
+  float_field(sfp, "plane_update_tol_m", &SceneFilterParams::plane_update_tol_m);
+  int_field(sfp, "plane_init_frames", &SceneFilterParams::plane_init_frames);
+  float_field(sfp, "cluster_eps", &SceneFilterParams::cluster_eps);
+  int_field(sfp, "cluster_min_points", &SceneFilterParams::cluster_min_points);
+  float_field(sfp, "cluster_min_extent", &SceneFilterParams::cluster_min_extent);
+  float_field(sfp, "cluster_max_extent", &SceneFilterParams::cluster_max_extent);
+  float_field(sfp, "band", &SceneFilterParams::band);
+  float_field(sfp, "cluster_voxel_m", &SceneFilterParams::cluster_voxel_m);
+  seed_field(sfp, "seed", &SceneFilterParams::seed);
+  float_field(sfp, "max_abs_coordinate_m", &SceneFilterParams::max_abs_coordinate_m);
+  sfp.def("validate", &SceneFilterParams::validate,
+          "Raise ValueError naming the first invalid parameter.");
 
-  py::class_<ObbParams>(m, "ObbParams", "SPEC 2.7 object estimate / guard / tracker parameters")
-      .def(py::init<>())
-      .def_readwrite("depth_noise_sigma", &ObbParams::depth_noise_sigma)
-      .def_readwrite("top_slice_sigmas", &ObbParams::top_slice_sigmas)
-      .def_readwrite("top_slice_iters", &ObbParams::top_slice_iters)
-      .def_readwrite("n_theta", &ObbParams::n_theta)
-      .def_readwrite("width_tol_m", &ObbParams::width_tol_m)
-      .def_readwrite("isotropy_ratio_max", &ObbParams::isotropy_ratio_max)
-      .def_readwrite("gripper_open", &ObbParams::gripper_open)
-      .def_readwrite("min_graspable_width", &ObbParams::min_graspable_width)
-      .def_readwrite("min_height", &ObbParams::min_height)
-      .def_readwrite("resting_margin", &ObbParams::resting_margin)
-      .def_readwrite("side_seen_sigmas", &ObbParams::side_seen_sigmas)
-      .def_readwrite("window", &ObbParams::window)
-      .def_readwrite("assoc_gate_frac", &ObbParams::assoc_gate_frac)
-      .def_readwrite("max_age_s", &ObbParams::max_age_s)
-      .def_readwrite("nadir_hold_s", &ObbParams::nadir_hold_s)
-      .def_readwrite("nadir_angle_max_deg", &ObbParams::nadir_angle_max_deg)
-      .def_readwrite("nadir_min_distance_m", &ObbParams::nadir_min_distance_m)
-      .def("validate", &ObbParams::validate,
-           "Raise ValueError naming the first invalid parameter.");
+  py::class_<ObbParams> obb(m, "ObbParams", "SPEC 2.7 object estimate / guard / tracker parameters");
+  obb.def(py::init<>());
+  float_field(obb, "depth_noise_sigma", &ObbParams::depth_noise_sigma);
+  float_field(obb, "top_slice_sigmas", &ObbParams::top_slice_sigmas);
+  int_field(obb, "top_slice_iters", &ObbParams::top_slice_iters);
+  int_field(obb, "n_theta", &ObbParams::n_theta);
+  float_field(obb, "width_tol_m", &ObbParams::width_tol_m);
+  float_field(obb, "isotropy_ratio_max", &ObbParams::isotropy_ratio_max);
+  float_field(obb, "gripper_open", &ObbParams::gripper_open);
+  float_field(obb, "min_graspable_width", &ObbParams::min_graspable_width);
+  float_field(obb, "min_height", &ObbParams::min_height);
+  float_field(obb, "resting_margin", &ObbParams::resting_margin);
+  float_field(obb, "side_seen_sigmas", &ObbParams::side_seen_sigmas);
+  int_field(obb, "window", &ObbParams::window);
+  float_field(obb, "assoc_gate_frac", &ObbParams::assoc_gate_frac);
+  float_field(obb, "max_age_s", &ObbParams::max_age_s);
+  float_field(obb, "nadir_hold_s", &ObbParams::nadir_hold_s);
+  float_field(obb, "nadir_angle_max_deg", &ObbParams::nadir_angle_max_deg);
+  float_field(obb, "nadir_min_distance_m", &ObbParams::nadir_min_distance_m);
+  obb.def("validate", &ObbParams::validate,
+          "Raise ValueError naming the first invalid parameter.");
 }
 
 }  // namespace grasp_bind

@@ -10,6 +10,10 @@
 //   load_ply(path) -> points float32 (N, 3)   (the vertices' x/y/z)
 //
 // x/y/z may be stored with any numeric PCL field type; they are converted to float32.
+// ASCII bodies (PCD and PLY) are checked line by line before PCL reads them (PCL would
+// read a non-number as 0 or NaN): a value that is not a number of its field's type, a line
+// with too few/many values, or fewer/more lines than the header declares raise ValueError
+// naming the line number and the field ('nan' and 'inf' are numbers).
 // Errors never crash the interpreter: a missing file raises FileNotFoundError, a file PCL
 // cannot parse or one without x/y/z raises ValueError, a failed write raises OSError,
 // bad arguments raise ValueError/TypeError — each message names the file.
@@ -22,8 +26,12 @@
 #include <pcl/io/pcd_io.h>
 #include <pcl/io/ply_io.h>
 
+#include <cctype>
+#include <cerrno>
+#include <climits>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <filesystem>
@@ -92,6 +100,11 @@ struct PcdHeader {
   long long points = -1;     ///< POINTS (or WIDTH * HEIGHT)
   std::size_t record = 0;    ///< bytes per point (sum of SIZE * COUNT)
   std::size_t data_start = 0;
+  int data_line = 0;                ///< 1-based line number of the DATA line
+  std::vector<std::string> names;   ///< FIELDS
+  std::vector<long long> sizes;     ///< SIZE
+  std::vector<std::string> types;   ///< TYPE (F, I, U)
+  std::vector<long long> counts;    ///< COUNT (1 each when absent)
 };
 
 std::string printable(const std::string& line) {
@@ -100,10 +113,16 @@ std::string printable(const std::string& line) {
   return out + (line.size() > 40 ? "..." : "");
 }
 
+/// Whitespace-separated tokens (space, tab, CR, and the other isspace characters).
 std::vector<std::string> split_ws(const std::string& line) {
   std::vector<std::string> tok;
-  std::istringstream is(line);
-  for (std::string t; is >> t;) tok.push_back(t);
+  const std::size_t n = line.size();
+  for (std::size_t i = 0; i < n;) {
+    while (i < n && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    const std::size_t start = i;
+    while (i < n && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    if (i > start) tok.emplace_back(line, start, i - start);
+  }
   return tok;
 }
 
@@ -117,12 +136,14 @@ PcdHeader check_pcd_header(const std::string& path) {
     return std::invalid_argument(path + ": not a readable PCD file (" + why + ")");
   };
   PcdHeader h;
-  std::vector<long long> sizes, counts;
+  std::vector<long long>& sizes = h.sizes;
+  std::vector<long long>& counts = h.counts;
   long long width = -1, height = 1;
   bool fields = false;
   std::string line;
   for (int lines = 0; std::getline(in, line); ++lines) {
     if (lines > 10000) throw bad("no DATA line in the first 10000 lines");
+    h.data_line = lines + 1;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     const auto tok = split_ws(line);
     if (tok.empty() || tok[0][0] == '#') continue;
@@ -137,9 +158,12 @@ PcdHeader check_pcd_header(const std::string& path) {
         throw bad("malformed header line '" + printable(line) + "'");
       }
     };
-    if (key == "VERSION" || key == "TYPE" || key == "VIEWPOINT") {
+    if (key == "VERSION" || key == "VIEWPOINT") {
+    } else if (key == "TYPE") {
+      h.types.assign(tok.begin() + 1, tok.end());
     } else if (key == "FIELDS" || key == "COLUMNS") {
       fields = tok.size() > 1;
+      h.names.assign(tok.begin() + 1, tok.end());
     } else if (key == "SIZE") {
       for (std::size_t i = 1; i < tok.size(); ++i) sizes.push_back(num(tok[i]));
     } else if (key == "COUNT") {
@@ -188,6 +212,261 @@ PcdHeader check_pcd_header(const std::string& path) {
   return h;
 }
 
+// ---- ASCII bodies: PCL's readers turn a token that is not a number into 0 (PCD, via
+// atof) or NaN (PLY), skip a PCD line with the wrong number of values (the point stays 0)
+// and read PLY values across line ends. Both ASCII bodies are therefore checked here
+// first, line by line: every value must be a number of its field's type, every line must
+// hold exactly one point (PCD) / one element (PLY), and the line count must match the
+// header. Errors name the file, the 1-based line number and the field.
+
+enum class NumKind { kFloat, kSigned, kUnsigned };
+
+/// Why `tok` is not a valid value of a field (empty when it is). Floats: decimal notation
+/// [+-]digits[.digits][e[+-]digits], or nan / inf / infinity (any case, optional sign; a
+/// PCD NaN is legitimate, an Inf becomes a dropped row downstream) -- no hex, no
+/// trailing characters. Integers: [+-]digits within the range of `bytes` bytes.
+std::string number_problem(const std::string& tok, NumKind kind, int bytes) {
+  std::size_t i = 0;
+  const bool neg = !tok.empty() && tok[0] == '-';
+  if (!tok.empty() && (tok[0] == '+' || tok[0] == '-')) i = 1;
+  if (kind == NumKind::kFloat) {
+    std::string rest;
+    for (std::size_t k = i; k < tok.size(); ++k) rest += static_cast<char>(std::tolower(tok[k]));
+    if (rest == "nan" || rest == "inf" || rest == "infinity") return "";
+    std::size_t digits = 0, k = i;
+    while (k < tok.size() && std::isdigit(static_cast<unsigned char>(tok[k]))) ++k, ++digits;
+    if (k < tok.size() && tok[k] == '.') {
+      ++k;
+      while (k < tok.size() && std::isdigit(static_cast<unsigned char>(tok[k]))) ++k, ++digits;
+    }
+    if (digits > 0 && k < tok.size() && (tok[k] == 'e' || tok[k] == 'E')) {
+      std::size_t e = k + 1;
+      if (e < tok.size() && (tok[e] == '+' || tok[e] == '-')) ++e;
+      std::size_t ed = 0;
+      while (e < tok.size() && std::isdigit(static_cast<unsigned char>(tok[e]))) ++e, ++ed;
+      if (ed > 0) k = e;
+    }
+    if (digits == 0 || k != tok.size()) return "is not a number";
+    return "";
+  }
+  std::size_t k = i;
+  while (k < tok.size() && std::isdigit(static_cast<unsigned char>(tok[k]))) ++k;
+  if (k == i || k != tok.size()) return "is not an integer";
+  errno = 0;
+  if (kind == NumKind::kUnsigned) {
+    if (neg && tok.find_first_not_of("-0") != std::string::npos) return "is negative (unsigned field)";
+    const unsigned long long v = std::strtoull(tok.c_str() + i, nullptr, 10);
+    const unsigned long long hi = bytes >= 8 ? ~0ULL : (1ULL << (8 * bytes)) - 1;
+    if (errno == ERANGE || v > hi) return "is out of range for an unsigned " + std::to_string(8 * bytes) + "-bit field";
+    return "";
+  }
+  const long long v = std::strtoll(tok.c_str(), nullptr, 10);
+  const long long hi = bytes >= 8 ? LLONG_MAX : (1LL << (8 * bytes - 1)) - 1;
+  if (errno == ERANGE || v > hi || v < -hi - 1)
+    return "is out of range for a signed " + std::to_string(8 * bytes) + "-bit field";
+  return "";
+}
+
+/// One column of an ASCII body: its display name and value type.
+struct Column {
+  std::string name;
+  NumKind kind = NumKind::kFloat;
+  int bytes = 4;
+};
+
+[[noreturn]] void ascii_error(const std::string& path, const char* fmt, int line,
+                              const std::string& why) {
+  throw std::invalid_argument(path + ": " + fmt + " data, line " + std::to_string(line) + ": " + why);
+}
+
+std::string show(const std::string& tok) { return "'" + printable(tok) + "'"; }
+
+/// The PCD DATA ascii body: POINTS lines of sum(COUNT) numbers each (empty lines are skipped,
+/// as PCL does).
+void check_pcd_ascii_body(const std::string& path, const PcdHeader& h) {
+  std::vector<Column> cols;
+  for (std::size_t f = 0; f < h.names.size(); ++f) {
+    const long long count = f < h.counts.size() ? h.counts[f] : 1;
+    const std::string type = f < h.types.size() ? h.types[f] : "F";
+    Column c;
+    c.kind = type == "F" ? NumKind::kFloat : type == "U" ? NumKind::kUnsigned : NumKind::kSigned;
+    c.bytes = static_cast<int>(f < h.sizes.size() ? h.sizes[f] : 4);
+    for (long long k = 0; k < count; ++k) {
+      c.name = count == 1 ? h.names[f] : h.names[f] + "[" + std::to_string(k) + "]";
+      cols.push_back(c);
+    }
+  }
+  std::string names;
+  for (const auto& n : h.names) names += (names.empty() ? "" : " ") + n;
+  std::ifstream in(path, std::ios::binary);
+  in.seekg(static_cast<std::streamoff>(h.data_start));
+  std::string line;
+  long long points = 0;
+  for (int ln = h.data_line + 1; std::getline(in, line); ++ln) {
+    // PCL skips empty lines only: a line of blanks (or a lone CR) is a point for PCL,
+    // read as zeros, so it is an error here ("got 0").
+    if (line.empty()) continue;
+    const auto tok = split_ws(line);
+    if (points == h.points)
+      ascii_error(path, "PCD ascii", ln, "more data lines than POINTS = " + std::to_string(h.points) +
+                  " (the header's point count is wrong or the file has trailing data)");
+    if (tok.size() != cols.size())
+      ascii_error(path, "PCD ascii", ln, "expected " + std::to_string(cols.size()) +
+                  " values (fields " + names + "), got " + std::to_string(tok.size()));
+    for (std::size_t c = 0; c < cols.size(); ++c) {
+      const std::string why = number_problem(tok[c], cols[c].kind, cols[c].bytes);
+      if (!why.empty())
+        ascii_error(path, "PCD ascii", ln, "field '" + cols[c].name + "' (column " +
+                    std::to_string(c + 1) + "): " + show(tok[c]) + " " + why);
+    }
+    ++points;
+  }
+  if (points < h.points)
+    throw std::invalid_argument(path + ": PCD ascii data: only " + std::to_string(points) +
+                                " data lines, but POINTS = " + std::to_string(h.points) +
+                                " (the file is truncated or the header's point count is wrong)");
+}
+
+/// PLY: one element (or list) property of the header.
+struct PlyProperty {
+  std::string name;
+  bool list = false;
+  Column count;  ///< the list's length type
+  Column value;
+};
+struct PlyElement {
+  std::string name;
+  long long count = 0;
+  std::vector<PlyProperty> props;
+};
+
+bool ply_type(const std::string& t, Column* c) {
+  static const std::pair<const char*, std::pair<NumKind, int>> kTypes[] = {
+      {"char", {NumKind::kSigned, 1}},    {"int8", {NumKind::kSigned, 1}},
+      {"uchar", {NumKind::kUnsigned, 1}}, {"uint8", {NumKind::kUnsigned, 1}},
+      {"short", {NumKind::kSigned, 2}},   {"int16", {NumKind::kSigned, 2}},
+      {"ushort", {NumKind::kUnsigned, 2}}, {"uint16", {NumKind::kUnsigned, 2}},
+      {"int", {NumKind::kSigned, 4}},     {"int32", {NumKind::kSigned, 4}},
+      {"uint", {NumKind::kUnsigned, 4}},  {"uint32", {NumKind::kUnsigned, 4}},
+      {"float", {NumKind::kFloat, 4}},    {"float32", {NumKind::kFloat, 4}},
+      {"double", {NumKind::kFloat, 8}},   {"float64", {NumKind::kFloat, 8}}};
+  for (const auto& [name, kb] : kTypes)
+    if (t == name) {
+      c->kind = kb.first;
+      c->bytes = kb.second;
+      return true;
+    }
+  return false;
+}
+
+/// The header of an ASCII PLY (false: not ASCII, or a header this check does not
+/// understand -- PCL's reader then decides alone).
+bool ply_ascii_header(std::ifstream& in, std::vector<PlyElement>* elements, int* header_lines) {
+  std::string line;
+  int ln = 0;
+  bool ascii = false;
+  while (std::getline(in, line)) {
+    ++ln;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const auto tok = split_ws(line);
+    if (ln == 1) {
+      if (tok.size() != 1 || tok[0] != "ply") return false;
+      continue;
+    }
+    if (tok.empty() || tok[0] == "comment" || tok[0] == "obj_info") continue;
+    if (tok[0] == "format") {
+      ascii = tok.size() >= 2 && tok[1] == "ascii";
+      if (!ascii) return false;
+    } else if (tok[0] == "element" && tok.size() == 3) {
+      PlyElement e;
+      e.name = tok[1];
+      try {
+        e.count = std::stoll(tok[2]);
+      } catch (const std::logic_error&) {
+        return false;
+      }
+      if (e.count < 0) return false;
+      elements->push_back(e);
+    } else if (tok[0] == "property" && !elements->empty()) {
+      PlyProperty p;
+      if (tok.size() == 5 && tok[1] == "list") {
+        p.list = true;
+        p.name = tok[4];
+        if (!ply_type(tok[2], &p.count) || !ply_type(tok[3], &p.value) ||
+            p.count.kind == NumKind::kFloat)
+          return false;
+      } else if (tok.size() == 3) {
+        p.name = tok[2];
+        if (!ply_type(tok[1], &p.value)) return false;
+      } else {
+        return false;
+      }
+      p.value.name = p.count.name = p.name;
+      elements->back().props.push_back(p);
+    } else if (tok[0] == "end_header") {
+      *header_lines = ln;
+      return ascii;
+    } else {
+      return false;
+    }
+  }
+  return false;
+}
+
+/// An ASCII PLY body: each element instance on its own line with exactly its properties'
+/// values (a list: its length, then that many values), as many lines as the header says.
+void check_ply_ascii(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return;  // PCL reports it
+  std::vector<PlyElement> elements;
+  int ln = 0;
+  if (!ply_ascii_header(in, &elements, &ln)) return;
+  std::string line;
+  for (const PlyElement& e : elements) {
+    for (long long i = 0; i < e.count; ++i) {
+      std::vector<std::string> tok;
+      while (tok.empty()) {
+        if (!std::getline(in, line))
+          throw std::invalid_argument(path + ": PLY ascii data: only " + std::to_string(i) +
+                                      " of the " + std::to_string(e.count) + " '" + e.name +
+                                      "' lines the header declares (the file is truncated)");
+        ++ln;
+        tok = split_ws(line);
+      }
+      std::size_t k = 0;
+      for (const PlyProperty& p : e.props) {
+        long long n = 1;
+        if (p.list) {
+          if (k >= tok.size())
+            ascii_error(path, "PLY ascii", ln, "too few values for element '" + e.name +
+                        "' (missing the length of list '" + p.name + "')");
+          const std::string why = number_problem(tok[k], p.count.kind, p.count.bytes);
+          if (!why.empty())
+            ascii_error(path, "PLY ascii", ln, "the length of list '" + p.name + "': " + show(tok[k]) + " " + why);
+          n = std::stoll(tok[k++]);
+        }
+        for (long long j = 0; j < n; ++j, ++k) {
+          if (k >= tok.size())
+            ascii_error(path, "PLY ascii", ln, "too few values for element '" + e.name + "': got " +
+                        std::to_string(tok.size()) + ", property '" + p.name + "' is missing");
+          const std::string why = number_problem(tok[k], p.value.kind, p.value.bytes);
+          if (!why.empty())
+            ascii_error(path, "PLY ascii", ln, "property '" + p.name + "' of element '" + e.name +
+                        "': " + show(tok[k]) + " " + why);
+        }
+      }
+      if (k != tok.size())
+        ascii_error(path, "PLY ascii", ln, "too many values for element '" + e.name + "': expected " +
+                    std::to_string(k) + ", got " + std::to_string(tok.size()));
+    }
+  }
+  while (std::getline(in, line)) {
+    ++ln;
+    if (!split_ws(line).empty())
+      ascii_error(path, "PLY ascii", ln, "data after the last element the header declares");
+  }
+}
+
 /// The x/y/z fields of a PCLPointCloud2 as an (N, 3) float32 array (N = width * height).
 py::array_t<float> xyz_of(const pcl::PCLPointCloud2& cloud, const std::string& path) {
   const pcl::PCLPointField* f[3] = {nullptr, nullptr, nullptr};
@@ -234,12 +513,13 @@ py::array_t<float> xyz_of(const pcl::PCLPointCloud2& cloud, const std::string& p
 
 py::tuple load_pcd(const std::string& path) {
   require_readable_file(path, "PCD");
-  const PcdHeader header = check_pcd_header(path);
   pcl::PCLPointCloud2 cloud;
   int result = -1;
   std::string why;
   {
-    py::gil_scoped_release release;
+    py::gil_scoped_release release;  // our checks raise std::invalid_argument -> ValueError
+    const PcdHeader header = check_pcd_header(path);
+    if (header.data == "ascii") check_pcd_ascii_body(path, header);
     try {
       pcl::PCDReader reader;
       Eigen::Vector4f origin;
@@ -274,6 +554,7 @@ py::array_t<float> load_ply(const std::string& path) {
   std::string why;
   {
     py::gil_scoped_release release;
+    check_ply_ascii(path);
     try {
       pcl::PLYReader reader;
       Eigen::Vector4f origin;

@@ -288,18 +288,20 @@ void apply_size_guards(ObjectEstimate& est, const ObbParams& p) {
 // ---- the estimate ---------------------------------------------------------------------
 
 EstimateResult estimate_object(const PointsD& pts, const Plane& plane, const ObbParams& p,
-                               std::optional<double> theta_prev, std::optional<double> band) {
+                               std::optional<double> theta_prev, std::optional<double> band,
+                               double max_abs_coordinate_m) {
   const double n_len = plane.n.norm();
   if (!std::isfinite(n_len) || !(n_len > 0.0) || !std::isfinite(plane.c))
     return failure("invalid plane: normal must be finite and non-zero");
   const Vec3 n = plane.n / n_len;
   const double c = plane.c / n_len;
 
-  // Defensive: the caller filters NaN/Inf, but never let one row poison the estimate.
+  // Defensive: the caller filters NaN/Inf and absurd coordinates, but never let one row
+  // poison the estimate (a coordinate near float max overflows the covariance).
   PointsD P(pts.rows(), 3);
   Eigen::Index m = 0;
   for (Eigen::Index i = 0; i < pts.rows(); ++i)
-    if (pts.row(i).allFinite()) P.row(m++) = pts.row(i);
+    if (within_bound(pts(i, 0), pts(i, 1), pts(i, 2), max_abs_coordinate_m)) P.row(m++) = pts.row(i);
   P.conservativeResize(m, 3);
   if (m < 3) return failure("too few points: " + std::to_string(m) + " (need 3)");
 
@@ -322,6 +324,12 @@ EstimateResult estimate_object(const PointsD& pts, const Plane& plane, const Obb
     b[i] = q.dot(v);
     d[i] = q.dot(n);
   }
+  // 2.4 height first: a cluster whose top is below the plane is no object on it (ours).
+  e.height_m = slice_median_top(d, p.depth_noise_sigma, p.top_slice_sigmas, p.top_slice_iters);
+  if (!(e.height_m >= 0.0))
+    return failure("not above the plane: its top (slice median) is " + mm(-e.height_m) +
+                   " mm below the plane; an object estimate needs points above the plane "
+                   "(are the points and the plane in the same frame?)");
 
   // 2.2 / 2.3 width scan and closing direction.
   const std::vector<double> ext = width_scan(a, b, p.n_theta);
@@ -335,7 +343,6 @@ EstimateResult estimate_object(const PointsD& pts, const Plane& plane, const Obb
   double mid_w = 0.0, mid_p = 0.0;
   span_along(a, b, th, &e.width_m, &mid_w);
   span_along(a, b, th + M_PI / 2.0, &e.perp_width_m, &mid_p);
-  e.height_m = slice_median_top(d, p.depth_noise_sigma, p.top_slice_sigmas, p.top_slice_iters);
   const Vec3 e_th = std::cos(th) * u + std::sin(th) * v;
   const Vec3 e_perp = -std::sin(th) * u + std::cos(th) * v;
   e.R_box.col(0) = e_th;

@@ -56,6 +56,9 @@ void SceneFilterParams::validate() const {
   require(finite(band) && band >= 0 && band <= 1.0, "band", band, "a height in [0, 1] m");
   require(finite(cluster_voxel_m) && cluster_voxel_m >= 0 && cluster_voxel_m < cluster_eps,
           "cluster_voxel_m", cluster_voxel_m, "a leaf size in [0, cluster_eps) m (0 = exact)");
+  require(finite(max_abs_coordinate_m) && max_abs_coordinate_m > 0 &&
+              max_abs_coordinate_m <= kMaxAbsCoordinateLimit_m,
+          "max_abs_coordinate_m", max_abs_coordinate_m, "a bound in (0, 1e9] m");
 }
 
 void ObbParams::validate() const {

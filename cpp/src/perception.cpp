@@ -79,7 +79,8 @@ PerceptionFrame Perception::process_impl(const T* xyz, std::size_t n_rows, std::
           static_cast<double>(p[2]);
     }
     const std::vector<EstimateResult> results =
-        estimate_with_priors(clusters, plane, obb_, tracker_, out.filter.band);
+        estimate_with_priors(clusters, plane, obb_, tracker_, out.filter.band,
+                             filter_.params().max_abs_coordinate_m);
     std::vector<ViewQuality> qualities;
     for (int i = 0; i < k; ++i) {
       const EstimateResult& r = results[static_cast<std::size_t>(i)];

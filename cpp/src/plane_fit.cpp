@@ -131,17 +131,15 @@ std::uint32_t mix_seed(std::uint64_t seed) {
   return static_cast<std::uint32_t>(z ^ (z >> 32));
 }
 
+/// The valid rows (finite, every |coordinate| <= bound, checked on the input values) as float.
 template <typename Points>
-Cloud::Ptr finite_cloud(const Points& points) {
+Cloud::Ptr finite_cloud(const Points& points, double bound) {
   auto cloud = std::make_shared<Cloud>();
   cloud->reserve(static_cast<std::size_t>(points.rows()));
   for (Eigen::Index i = 0; i < points.rows(); ++i) {
     const double x = points(i, 0), y = points(i, 1), z = points(i, 2);
-    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) continue;
-    const pcl::PointXYZ p(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z));
-    // A double that overflows float is not finite any more.
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) continue;
-    cloud->push_back(p);
+    if (!within_bound(x, y, z, bound)) continue;  // NaN/Inf or out of range
+    cloud->push_back(pcl::PointXYZ(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z)));
   }
   return cloud;
 }
@@ -230,12 +228,14 @@ std::optional<PlaneFit> fit_cloud(const Cloud::ConstPtr& cloud, const SceneFilte
 
 std::optional<PlaneFit> fit_plane_ransac(const PointsD& points, const SceneFilterParams& params,
                                          std::uint64_t seed) {
-  return fit_cloud(finite_cloud(points), params, seed);
+  params.validate();
+  return fit_cloud(finite_cloud(points, params.max_abs_coordinate_m), params, seed);
 }
 
 std::optional<PlaneFit> fit_plane_ransac(const PointsF& points, const SceneFilterParams& params,
                                          std::uint64_t seed) {
-  return fit_cloud(finite_cloud(points), params, seed);
+  params.validate();
+  return fit_cloud(finite_cloud(points, params.max_abs_coordinate_m), params, seed);
 }
 
 }  // namespace grasp_core

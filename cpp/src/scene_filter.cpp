@@ -1,8 +1,9 @@
 // SPEC 1.2–1.5 — the per-frame scene filter. See scene_filter.hpp.
 //
 // Data path per frame (no PCL cloud of the whole frame is ever built):
-//   1. one pass over the caller's strided rows: drop NaN/Inf, pack the valid points as
-//      contiguous floats (x y z x y z ...);
+//   1. one pass over the caller's strided rows: drop NaN/Inf rows and rows beyond the
+//      coordinate bound (max_abs_coordinate_m), pack the valid points as contiguous
+//      floats (separate x, y, z arrays);
 //   2. sequential extraction: each plane searches a <= plane_fit_max_points subsample
 //      (PCL RANSAC, plane_fit.cpp), then one tight loop counts its inliers on the whole
 //      packed cloud and another drops them from the remainder;
@@ -14,6 +15,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <memory>
 #include <random>
@@ -37,18 +39,20 @@ std::uint64_t derive_seed(std::uint64_t seed, std::uint64_t stream) {
 }
 
 /// Valid rows of a frame packed as separate x, y, z arrays (structure of arrays, so the
-/// per-point loops over the whole frame vectorise).
+/// per-point loops over the whole frame vectorise). Valid = finite and every |coordinate|
+/// <= max_abs_coordinate_m.
 struct Packed {
   // Uninitialised storage: every used slot is written before it is read (saves zeroing
   // ~5 MB per 640x480 frame).
   std::unique_ptr<float[]> x, y, z;
   std::unique_ptr<int[]> rows;  ///< input row of each valid point
   std::size_t n = 0;            ///< number of valid points
+  std::size_t out_of_range = 0; ///< finite rows dropped by the coordinate bound
   std::size_t size() const { return n; }
 };
 
 template <typename T>
-Packed pack_finite(const T* xyz, std::size_t n_rows, std::size_t stride) {
+Packed pack_finite(const T* xyz, std::size_t n_rows, std::size_t stride, double bound) {
   if (n_rows > 0 && xyz == nullptr) throw std::invalid_argument("scene filter: null point buffer");
   if (n_rows > 0 && stride < 3) throw std::invalid_argument("scene filter: row stride must be >= 3");
   if (n_rows > static_cast<std::size_t>(std::numeric_limits<int>::max()))
@@ -58,20 +62,23 @@ Packed pack_finite(const T* xyz, std::size_t n_rows, std::size_t stride) {
   out.y.reset(new float[n_rows + 1]);
   out.z.reset(new float[n_rows + 1]);
   out.rows.reset(new int[n_rows + 1]);
-  std::size_t m = 0;
+  std::size_t m = 0, oor = 0;
   for (std::size_t i = 0; i < n_rows; ++i) {
     const T* p = xyz + i * stride;
-    const float x = static_cast<float>(p[0]), y = static_cast<float>(p[1]),
-                z = static_cast<float>(p[2]);
-    // Branch-free: always write slot m, keep it only if the row is finite (checked after
-    // the cast: a double beyond float range is not finite any more).
-    out.x[m] = x;
-    out.y[m] = y;
-    out.z[m] = z;
+    // Checked on the input values (a double beyond float range is out of range, not
+    // non-finite), before the cast to float.
+    const bool fin = std::isfinite(p[0]) & std::isfinite(p[1]) & std::isfinite(p[2]);
+    const bool in = within_bound(p[0], p[1], p[2], bound);  // false for NaN/Inf too
+    // Branch-free: always write slot m, keep it only if the row is valid.
+    out.x[m] = static_cast<float>(p[0]);
+    out.y[m] = static_cast<float>(p[1]);
+    out.z[m] = static_cast<float>(p[2]);
     out.rows[m] = static_cast<int>(i);
-    m += (std::isfinite(x) & std::isfinite(y) & std::isfinite(z)) ? 1 : 0;
+    m += in ? 1 : 0;
+    oor += (fin && !in) ? 1 : 0;
   }
   out.n = m;
+  out.out_of_range = oor;
   return out;
 }
 
@@ -159,7 +166,7 @@ template <typename T>
 std::vector<PlaneCandidate> extract_any(const T* xyz, std::size_t n_rows, std::size_t stride,
                                         const SceneFilterParams& params, std::uint64_t seed) {
   params.validate();
-  return extract_packed(pack_finite(xyz, n_rows, stride), params, seed);
+  return extract_packed(pack_finite(xyz, n_rows, stride, params.max_abs_coordinate_m), params, seed);
 }
 
 }  // namespace
@@ -203,19 +210,37 @@ SceneFilter::SceneFilter(const SceneFilterParams& params)
 void SceneFilter::reset() {
   persistence_.reset();
   frame_index_ = 0;
+  out_of_range_reported_ = false;
 }
 
 namespace {
 
 /// Steps 2–4 of the data path for one packed frame; `frame_seed` drives the plane search.
+/// The out-of-range drop as an event: WARNING the first time in a session, DEBUG after.
+void report_out_of_range(const Packed& pk, const SceneFilterParams& params, bool& reported,
+                         std::vector<FrameEvent>& events) {
+  if (pk.out_of_range == 0) return;
+  char buf[256];
+  std::snprintf(buf, sizeof(buf),
+                "dropped %zu point(s) with a coordinate beyond +-%g m (max_abs_coordinate_m); "
+                "they are labelled invalid like NaN rows%s",
+                pk.out_of_range, params.max_abs_coordinate_m,
+                reported ? "" : " (reported once per session; later frames log at debug level)");
+  events.push_back(FrameEvent{reported ? FrameEvent::Level::kDebug : FrameEvent::Level::kWarning, buf});
+  reported = true;
+}
+
 SceneFilterResult run_frame(const Packed& pk, std::size_t n_rows,
                             const SceneFilterParams& params, PlanePersistence& persistence,
-                            std::uint64_t frame_seed, Clock::time_point t0) {
+                            std::uint64_t frame_seed, Clock::time_point t0, bool& oor_reported) {
   SceneFilterResult res;
   res.band = params.band;
+  res.max_abs_coordinate_m = params.max_abs_coordinate_m;
   const std::size_t n_valid = pk.size();
   res.num_valid = static_cast<int>(n_valid);
   res.num_invalid = static_cast<int>(n_rows - n_valid);
+  res.num_out_of_range = static_cast<int>(pk.out_of_range);
+  report_out_of_range(pk, params, oor_reported, res.events);
   res.labels.assign(n_rows, kLabelInvalid);
   for (std::size_t i = 0; i < n_valid; ++i) res.labels[static_cast<std::size_t>(pk.rows[i])] = kLabelEnvironment;
 
@@ -229,7 +254,7 @@ SceneFilterResult run_frame(const Packed& pk, std::size_t n_rows,
   res.environment_emitted = upd.environment_emitted;
   res.fallback = upd.fallback;
   res.decision = upd.decision;
-  res.events = std::move(upd.events);
+  res.events.insert(res.events.end(), upd.events.begin(), upd.events.end());
   res.persistence = persistence.state();
   res.ms_plane = ms_since(t_plane);
 
@@ -259,7 +284,8 @@ SceneFilterResult run_frame(const Packed& pk, std::size_t n_rows,
     res.num_candidates = static_cast<int>(cand_rows.size());
     const ClusterResult cl = euclidean_clusters(
         cand_xyz.data(), cand_rows.size(), 3, params.cluster_eps, params.cluster_min_points,
-        params.cluster_min_extent, params.cluster_max_extent, params.cluster_voxel_m);
+        params.cluster_min_extent, params.cluster_max_extent, params.cluster_voxel_m,
+        params.max_abs_coordinate_m);
     for (std::size_t k = 0; k < cand_rows.size(); ++k)
       res.labels[static_cast<std::size_t>(cand_rows[k])] = cl.labels[k];
     for (int id = 0; id < cl.num_accepted; ++id) res.cluster_ids.push_back(id);
@@ -274,14 +300,14 @@ SceneFilterResult run_frame(const Packed& pk, std::size_t n_rows,
 
 SceneFilterResult SceneFilter::process(const float* xyz, std::size_t n_rows, std::size_t row_stride) {
   const auto t0 = Clock::now();
-  const Packed pk = pack_finite(xyz, n_rows, row_stride);
-  return run_frame(pk, n_rows, params_, persistence_, next_frame_seed(), t0);
+  const Packed pk = pack_finite(xyz, n_rows, row_stride, params_.max_abs_coordinate_m);
+  return run_frame(pk, n_rows, params_, persistence_, next_frame_seed(), t0, out_of_range_reported_);
 }
 
 SceneFilterResult SceneFilter::process(const double* xyz, std::size_t n_rows, std::size_t row_stride) {
   const auto t0 = Clock::now();
-  const Packed pk = pack_finite(xyz, n_rows, row_stride);
-  return run_frame(pk, n_rows, params_, persistence_, next_frame_seed(), t0);
+  const Packed pk = pack_finite(xyz, n_rows, row_stride, params_.max_abs_coordinate_m);
+  return run_frame(pk, n_rows, params_, persistence_, next_frame_seed(), t0, out_of_range_reported_);
 }
 
 std::uint64_t SceneFilter::next_frame_seed() {

@@ -165,12 +165,13 @@ void Tracker::reset() {
 std::vector<EstimateResult> estimate_with_priors(const std::vector<PointsD>& clusters,
                                                  const Plane& plane, const ObbParams& p,
                                                  const Tracker& tracker,
-                                                 std::optional<double> band) {
+                                                 std::optional<double> band,
+                                                 double max_abs_coordinate_m) {
   std::vector<EstimateResult> first;
   first.reserve(clusters.size());
   std::vector<Vec3> centres;
   for (const auto& c : clusters) {
-    first.push_back(estimate_object(c, plane, p, std::nullopt, band));
+    first.push_back(estimate_object(c, plane, p, std::nullopt, band, max_abs_coordinate_m));
     if (first.back().estimate) centres.push_back(first.back().estimate->center);
   }
   const auto gate = Tracker::gate_for(centres, p.assoc_gate_frac);
@@ -186,7 +187,7 @@ std::vector<EstimateResult> estimate_with_priors(const std::vector<PointsD>& clu
       out.push_back(std::move(first[i]));
       continue;
     }
-    EstimateResult second = estimate_object(clusters[i], plane, p, prior, band);
+    EstimateResult second = estimate_object(clusters[i], plane, p, prior, band, max_abs_coordinate_m);
     out.push_back(second.estimate ? std::move(second) : std::move(first[i]));
   }
   return out;

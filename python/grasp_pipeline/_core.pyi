@@ -17,8 +17,19 @@ Mat3: typing.TypeAlias = numpy.typing.NDArray[numpy.float64]
 Mat4: typing.TypeAlias = numpy.typing.NDArray[numpy.float64]
 Vec3Like: typing.TypeAlias = numpy.typing.ArrayLike
 Mat3Like: typing.TypeAlias = numpy.typing.ArrayLike
-#: An (N, 3) float32 or float64 array of points in `world` (rows may be NaN/Inf where noted).
+#: An (N, 3) float32 or float64 array of points in `world`. Rows with a NaN/Inf or a
+#: |coordinate| > max_abs_coordinate_m (default 1000 m) are dropped and counted wherever
+#: points are taken (labelled LABEL_INVALID where labels are returned).
 Points: typing.TypeAlias = numpy.typing.NDArray[numpy.float32] | numpy.typing.NDArray[numpy.float64]
+#
+# Threads: the stateful classes (Perception, SceneFilter, PlanePersistence, Tracker) are
+# thread-safe by serialisation: each instance has a mutex (views such as
+# Perception.scene_filter / .tracker and SceneFilter.persistence share their owner's); the
+# GIL is released while a call waits for it and while a frame is processed. Parameter
+# objects are copied before the GIL is released.
+#
+# Parameter setters (SceneFilterParams / ObbParams) raise TypeError naming the field for a
+# wrong type and ValueError for an integer beyond the C++ type; ranges: validate().
 class ViewQuality:
     """
     View quality of an observation (NADIR > OBLIQUE)
@@ -128,6 +139,14 @@ class SceneFilterParams:
     """
     plane_lock: bool
     def __init__(self) -> None:
+        ...
+    @property
+    def max_abs_coordinate_m(self) -> float:
+        """
+        (ours) sane coordinate bound [m], in (0, 1e9]: rows with any |coordinate| above it are dropped and counted like NaN rows
+        """
+    @max_abs_coordinate_m.setter
+    def max_abs_coordinate_m(self, arg0: float) -> None:
         ...
     def validate(self) -> None:
         """
@@ -434,6 +453,16 @@ class ClusterResult:
     @property
     def num_components(self) -> int:
         ...
+    @property
+    def num_invalid(self) -> int:
+        """
+        rows labelled LABEL_INVALID: NaN/Inf or beyond max_abs_coordinate_m
+        """
+    @property
+    def num_out_of_range(self) -> int:
+        """
+        of num_invalid: finite rows with a |coordinate| > max_abs_coordinate_m
+        """
 class EventLevel:
     """
     Members:
@@ -609,7 +638,7 @@ class PersistenceUpdate:
         ...
 class PlanePersistence:
     """
-    SPEC 1.5 plane persistence state machine
+    SPEC 1.5 plane persistence state machine. Thread-safe: calls from several threads are serialised by a mutex (the GIL is released while waiting); a view (SceneFilter.persistence) shares its owner's mutex.
     """
     def __init__(self, params: SceneFilterParams) -> None:
         ...
@@ -674,11 +703,25 @@ class SceneFilterResult:
     def num_candidates(self) -> int:
         ...
     @property
+    def max_abs_coordinate_m(self) -> float:
+        """
+        the coordinate bound applied this frame [m]
+        """
+    @property
     def num_invalid(self) -> int:
-        ...
+        """
+        rows dropped (LABEL_INVALID): NaN/Inf, or a |coordinate| > max_abs_coordinate_m
+        """
+    @property
+    def num_out_of_range(self) -> int:
+        """
+        of num_invalid: finite rows with a |coordinate| > max_abs_coordinate_m
+        """
     @property
     def num_valid(self) -> int:
-        ...
+        """
+        rows used: finite and within max_abs_coordinate_m
+        """
     @property
     def persistence(self) -> PersistenceState:
         ...
@@ -693,13 +736,13 @@ class SceneFilterResult:
         ...
 class SceneFilter:
     """
-    The per-frame scene filter (SPEC 1); owns the plane lock
+    The per-frame scene filter (SPEC 1); owns the plane lock. Thread-safe: calls from several threads are serialised by a mutex (the GIL is released while waiting and while processing); a view (Perception.scene_filter) shares its owner's mutex.
     """
     def __init__(self, params: SceneFilterParams) -> None:
         ...
     def process(self, points: Points) -> SceneFilterResult:
         """
-        Process one (N,3) float32/float64 frame in world coordinates.
+        Process one (N,3) float32/float64 frame in world coordinates. Rows with a NaN/Inf or a |coordinate| > params.max_abs_coordinate_m are dropped and counted (num_invalid, num_out_of_range).
         """
     def reset(self) -> None:
         ...
@@ -891,7 +934,7 @@ class Track:
         ...
 class Tracker:
     """
-    SPEC 4 tracker
+    SPEC 4 tracker. Thread-safe: calls from several threads are serialised by a mutex (the GIL is released while waiting); a view (Perception.tracker) shares its owner's mutex.
     """
     @staticmethod
     def gate_for(centres: Sequence[Vec3Like], frac: float) -> float | None:
@@ -954,7 +997,7 @@ class PerceptionFrame:
         ...
 class Perception:
     """
-    Per-frame entry point: scene filter -> two-pass estimates -> view quality -> tracker, for one camera session
+    Per-frame entry point: scene filter -> two-pass estimates -> view quality -> tracker, for one camera session. Thread-safe: calls from several threads (also through the scene_filter / tracker views) are serialised by one mutex; the GIL is released while waiting and while processing, so other Python threads keep running.
     """
     def __init__(self, filter_params: SceneFilterParams, obb_params: ObbParams) -> None:
         ...
@@ -968,10 +1011,14 @@ class Perception:
         ...
     @property
     def scene_filter(self) -> SceneFilter:
-        ...
+        """
+        the scene filter (a view sharing this object's lifetime and mutex)
+        """
     @property
     def tracker(self) -> Tracker:
-        ...
+        """
+        the tracker (a view sharing this object's lifetime and mutex)
+        """
 def angle_dist_mod_pi(a_rad: float, b_rad: float) -> float:
     ...
 def anisotropy_ratio(ext: Sequence[float]) -> float:
@@ -996,27 +1043,27 @@ def circular_median_mod_pi(angles_rad: Sequence[float], reference_rad: float) ->
     ...
 def direction_runs(ext: Sequence[float], width_tol_m: float) -> list[DirectionRun]:
     ...
-def estimate_object(points: Points, plane: Plane, params: ObbParams, theta_prev: float | None = None, band: float | None = None) -> EstimateResult:
+def estimate_object(points: Points, plane: Plane, params: ObbParams, theta_prev: float | None = None, band: float | None = None, max_abs_coordinate_m: float = 1000.0) -> EstimateResult:
     """
-    SPEC 2: estimate one cluster above the plane.
+    SPEC 2: estimate one cluster above the plane (rows with a NaN/Inf or a |coordinate| > max_abs_coordinate_m are dropped). No estimate (failure text) for fewer than 3 points, a failed PCA, or a cluster whose top is below the plane.
     """
-def estimate_with_priors(clusters: Sequence[Points], plane: Plane, params: ObbParams, tracker: Tracker, band: float | None = None) -> list[EstimateResult]:
+def estimate_with_priors(clusters: Sequence[Points], plane: Plane, params: ObbParams, tracker: Tracker, band: float | None = None, max_abs_coordinate_m: float = 1000.0) -> list[EstimateResult]:
     """
-    SPEC 4 two-pass estimation of one frame's clusters.
+    SPEC 4 two-pass estimation of one frame's clusters (rows with a NaN/Inf or a |coordinate| > max_abs_coordinate_m are dropped).
     """
-def euclidean_clusters(points: Points, eps_m: float, min_points: int, min_extent_m: float, max_extent_m: float, voxel_m: float = 0.0) -> ClusterResult:
+def euclidean_clusters(points: Points, eps_m: float, min_points: int, min_extent_m: float, max_extent_m: float, voxel_m: float = 0.0, max_abs_coordinate_m: float = 1000.0) -> ClusterResult:
     """
-    SPEC 1.4: Euclidean clusters (PCL semantics) with extent filters; labels for every row.
+    SPEC 1.4: Euclidean clusters (PCL semantics) with extent filters; labels for every row (LABEL_INVALID for NaN/Inf rows and rows with a |coordinate| > max_abs_coordinate_m).
     """
 def extent_along(a: Sequence[float], b: Sequence[float], theta_rad: float) -> float:
     ...
 def extract_planes(points: Points, params: SceneFilterParams, seed: int = 0) -> list[PlaneCandidate]:
     """
-    SPEC 1.2: sequential plane extraction; counts are on the whole cloud.
+    SPEC 1.2: sequential plane extraction on the rows that are finite and within params.max_abs_coordinate_m; counts are on the whole cloud.
     """
 def fit_plane_ransac(points: Points, params: SceneFilterParams, seed: int = 0) -> PlaneFit | None:
     """
-    SPEC 1.1: one horizontal-constrained RANSAC plane (PCL sample consensus) with least-squares refinement and the post-refinement tilt re-check. None if no model.
+    SPEC 1.1: one horizontal-constrained RANSAC plane (PCL sample consensus) with least-squares refinement and the post-refinement tilt re-check, on the rows that are finite and within params.max_abs_coordinate_m. None if no model.
     """
 def in_plane_basis(n: Vec3Like) -> tuple[Vec3, Vec3]:
     """
@@ -1026,11 +1073,11 @@ def median(values: Sequence[float]) -> float:
     """
     Median; an even count gives the mean of the two middle values.
     """
-def pca_box(points: Points) -> PcaBox | None:
+def pca_box(points: Points, max_abs_coordinate_m: float = 1000.0) -> PcaBox | None:
     """
-    PCA box of the finite rows, or None (fewer than 3 points, coincident, collinear).
+    PCA box of the rows that are finite and within max_abs_coordinate_m, or None (fewer than 3 points, coincident, collinear).
     """
-def pca_box_failure(points: Points) -> str:
+def pca_box_failure(points: Points, max_abs_coordinate_m: float = 1000.0) -> str:
     """
     Why pca_box() gives None ('' when it succeeds).
     """

@@ -240,19 +240,22 @@ def _split_log_level(argv: list[str] | None) -> tuple[Optional[str], list[str]]:
     return known.log_level, rest
 
 
+def _uses_mujoco(args: argparse.Namespace) -> bool:
+    return args.command in ("run", "demo") or (args.command == "bench" and args.bench != "perception")
+
+
 def main(argv: list[str] | None = None) -> int:
     level, rest = _split_log_level(argv)
     args = build_parser().parse_args(rest)
     if level is not None:
         args.log_level = level
-    logging.basicConfig(level=getattr(logging, args.log_level),
-                        format="%(asctime)s %(levelname)s %(name)s: %(message)s")
-    # TOPP-RA logs every parameterisation at INFO; keep it for --log-level DEBUG.
-    logging.getLogger("toppra").setLevel(max(logging.WARNING, getattr(logging, args.log_level)))
-    # Before anything imports mujoco: the GL backend can only be chosen then.
-    from .sim.gl_backend import configure_gl
+    from .logs import setup_logging
 
-    configure_gl()
+    setup_logging(getattr(logging, args.log_level))
+    if _uses_mujoco(args):  # before anything imports mujoco: the GL backend is chosen then
+        from .sim.gl_backend import configure_gl
+
+        configure_gl()
     try:
         return _run(args)
     except GraspPipelineError as exc:

@@ -18,6 +18,7 @@ Usage::
 from __future__ import annotations
 
 import dataclasses
+import math
 import typing
 from pathlib import Path
 from typing import Any, Mapping, TypeVar
@@ -29,6 +30,9 @@ from .exceptions import ConfigError
 
 T = TypeVar("T")
 
+#: Integer parameters must fit in 64 bits (they reach C++ and numpy; seeds are unsigned).
+INT_MIN, INT_MAX = -(2**63), 2**64 - 1
+
 
 def read_yaml(path: str | Path) -> dict[str, Any]:
     """Read a YAML mapping; an empty file is an empty mapping."""
@@ -38,6 +42,12 @@ def read_yaml(path: str | Path) -> dict[str, Any]:
             data = yaml.safe_load(fh)
     except FileNotFoundError as exc:
         raise ConfigError(f"config file not found: {path}") from exc
+    except IsADirectoryError:
+        raise ConfigError(f"config file {path} is a directory; give a YAML file") from None
+    except PermissionError:
+        raise ConfigError(f"config file {path} cannot be read (permission denied)") from None
+    except UnicodeDecodeError:
+        raise ConfigError(f"config file {path} is not UTF-8 text (is it a YAML file?)") from None
     except yaml.YAMLError as exc:
         raise ConfigError(f"config file {path} is not valid YAML: {exc}") from exc
     if data is None:
@@ -60,11 +70,17 @@ def _coerce(cls_name: str, name: str, typ: Any, value: Any) -> Any:
         if typ is int:
             if isinstance(value, bool) or (isinstance(value, float) and not value.is_integer()):
                 raise TypeError
-            return int(value)
+            v = int(value)
+            if not INT_MIN <= v <= INT_MAX:
+                raise ConfigError(f"{cls_name}.{name} = {v}: out of range (|value| must fit in 64 bits)")
+            return v
         if typ is float:
             if isinstance(value, bool):
                 raise TypeError
-            return float(value)
+            v = float(value)
+            if not math.isfinite(v):
+                raise ConfigError(f"{cls_name}.{name} = {value!r}: expected a finite number")
+            return v
         if typ is str:
             return str(value)
         if origin in (tuple, list):
@@ -74,7 +90,9 @@ def _coerce(cls_name: str, name: str, typ: Any, value: Any) -> Any:
             inner = args[0] if args else float
             seq = [_coerce(cls_name, name, inner, v) for v in value]
             return tuple(seq) if origin is tuple else seq
-    except (TypeError, ValueError):
+    except ConfigError:
+        raise
+    except (TypeError, ValueError, OverflowError):
         raise ConfigError(
             f"{cls_name}.{name}: cannot use {value!r} as {getattr(typ, '__name__', typ)}"
         ) from None

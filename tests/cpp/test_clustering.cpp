@@ -4,6 +4,7 @@
 #include "grasp_core/clustering.hpp"
 #include "synthetic_scene.hpp"
 
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -157,17 +158,61 @@ TEST(Clustering, DegenerateInputs) {
     one << 0.1f, 0.2f, 0.3f;
     const auto r1 = run(one, voxel, 1, 0.0);
     EXPECT_EQ(r1.labels, std::vector<int>{0});
-    // Huge but finite coordinates: no overflow, no crash (the grid falls back to PCL).
+    // Huge but finite coordinates are beyond the sane bound: dropped and counted.
     PointsF huge(3, 3);
     huge << 1e30f, 0, 0, -1e30f, 0, 0, 1e30f, 0.001f, 0;
     const auto rh = run(huge, voxel, 1, 0.0, 0.0);
-    EXPECT_EQ(rh.num_components, 2);
+    EXPECT_EQ(rh.num_components, 0);
+    EXPECT_EQ(rh.num_invalid, 3);
+    EXPECT_EQ(rh.num_out_of_range, 3);
+    EXPECT_EQ(rh.labels, std::vector<int>(3, kLabelInvalid));
+    // With the largest allowed bound they are still out (1e9 m), and in range ones cluster.
+    const auto rb = euclidean_clusters(huge, kEps, 1, 0.0, 0.0, voxel, kMaxAbsCoordinateLimit_m);
+    EXPECT_EQ(rb.num_out_of_range, 3);
   }
+  EXPECT_THROW(euclidean_clusters(PointsF(PointsF::Zero(3, 3)), kEps, 1, 0, 0, 0, 0.0),
+               std::invalid_argument);
   EXPECT_THROW(euclidean_clusters(PointsF(PointsF::Zero(3, 3)), 0.0, 1, 0, 0, 0), std::invalid_argument);
   float dummy[3] = {0, 0, 0};
   EXPECT_THROW(euclidean_clusters(dummy, 1, 2, kEps, 1, 0, 0, 0), std::invalid_argument);
   EXPECT_THROW(euclidean_clusters(nullptr, 1, 3, kEps, 1, 0, 0, 0), std::invalid_argument);
   EXPECT_NO_THROW(euclidean_clusters(nullptr, 0, 3, kEps, 1, 0, 0, 0));
+}
+
+// Regression: >= 16 identical rows near float max made FLANN's kd-tree split midpoint
+// +inf and abort the process (kdtree_single_index.h: index > 0 && index < count).
+TEST(Clustering, IdenticalRowsAtFloatMaxAreDroppedNotAborted) {
+  const float big = std::numeric_limits<float>::max();
+  PointsF pts(40, 3);
+  for (Eigen::Index i = 0; i < 20; ++i) pts.row(i) << big, big, big;
+  for (Eigen::Index i = 20; i < 40; ++i) pts.row(i) << 0.5f + 0.001f * static_cast<float>(i), 0.0f, 0.3f;
+  for (const double voxel : {kFast, kExact}) {
+    const auto r = run(pts, voxel, 5, 0.0, 0.0);
+    EXPECT_EQ(r.num_out_of_range, 20);
+    EXPECT_EQ(r.num_accepted, 1);
+    for (Eigen::Index i = 0; i < 40; ++i)
+      EXPECT_EQ(r.labels[static_cast<std::size_t>(i)], i < 20 ? kLabelInvalid : 0);
+  }
+  // Doubles beyond float range are out of range too (not turned into Inf first).
+  PointsD d(2, 3);
+  d << 1e300, 0, 0, 0, 0, 0;
+  EXPECT_EQ(euclidean_clusters(d, kEps, 1, 0, 0, kExact).num_out_of_range, 1);
+}
+
+// Regression: the reference path ran PCL's radius search over every copy of a duplicated
+// point (O(N^2): 100k identical rows took ~6 minutes). Duplicates are merged first.
+TEST(Clustering, ManyIdenticalRowsAreFastOnBothPaths) {
+  PointsF pts(100000, 3);
+  for (Eigen::Index i = 0; i < pts.rows(); ++i) pts.row(i) << 0.5f, 0.0f, 0.3f;
+  pts.row(0) << 0.505f, 0.0f, 0.3f;  // one distinct neighbour within eps
+  for (const double voxel : {kFast, kExact}) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto r = run(pts, voxel, 20, 0.0, 0.0);
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_LT(s, 2.0) << "voxel " << voxel;
+    EXPECT_EQ(r.num_accepted, 1);
+    EXPECT_EQ(r.clusters.at(0).num_points, 100000);
+  }
 }
 
 TEST(Clustering, StridedInput) {

@@ -407,6 +407,36 @@ TEST(Guards, TooLow) {
   EXPECT_TRUE(has_note(r.estimate->notes, "too low: 3.0 mm")) << r.estimate->notes[0];
 }
 
+// Regression: a cluster below the plane gave an estimate with a negative height (and
+// extents.z < 0), refused only by the "too low" guard. It is no estimate now.
+TEST(Failures, ClusterBelowThePlaneHasNoEstimate) {
+  Placement pl;
+  pl.lift_m = -0.08;  // a 5 cm cube whose top is 3 cm below the plane
+  const auto r = estimate(place(box_top_and_side(0.05, 0.05, 0.05, 0.001, 0.0, 2), pl));
+  EXPECT_FALSE(r.estimate);
+  EXPECT_NE(r.failure.find("not above the plane"), std::string::npos) << r.failure;
+  EXPECT_NE(r.failure.find("30.0 mm below the plane"), std::string::npos) << r.failure;
+  // Straddling the plane (top above it) is still an estimate, judged by the guards.
+  pl.lift_m = -0.03;
+  const auto s = estimate(place(box_top_and_side(0.05, 0.05, 0.05, 0.001, 0.0, 2), pl));
+  ASSERT_TRUE(s.estimate) << s.failure;
+  EXPECT_NEAR(s.estimate->height_m, 0.02, 1e-6);
+  EXPECT_GE(s.estimate->extents.z(), 0.0);
+}
+
+TEST(Failures, AbsurdCoordinatesAreIgnored) {
+  PointsD pts = place(box_top_and_side(0.05, 0.05, 0.05, 0.001, 0.002, 2), Placement());
+  const auto ref = estimate(pts);
+  ASSERT_TRUE(ref.estimate);
+  PointsD more(pts.rows() + 20, 3);
+  more.topRows(pts.rows()) = pts;
+  for (Eigen::Index i = pts.rows(); i < more.rows(); ++i) more.row(i) << 3.4e38, 3.4e38, 3.4e38;
+  const auto r = estimate(more);
+  ASSERT_TRUE(r.estimate) << r.failure;
+  EXPECT_EQ(r.estimate->num_points, ref.estimate->num_points);
+  EXPECT_TRUE(r.estimate->center.isApprox(ref.estimate->center));
+}
+
 TEST(Guards, TooWideAndTooNarrow) {
   const auto wide = estimate(place(box_top_and_side(0.10, 0.12, 0.05, 0.002, 0.0, 2), Placement()));
   ASSERT_TRUE(wide.estimate);

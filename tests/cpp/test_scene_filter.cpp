@@ -279,13 +279,51 @@ TEST(SceneFilter, RobustToDegenerateInputs) {
   PointsD two(2, 3);
   two << 0, 0, 0.2, 1, 0, 0.2;
   EXPECT_EQ(sf.process(two).labels, std::vector<int>(2, kLabelEnvironment));
-  PointsD big(3, 3);  // beyond float range: treated as non-finite
+  PointsD big(3, 3);  // finite but beyond the coordinate bound (and float range): out of range
   big << 1e300, 0, 0, 0, 0, 0, 0, 0, 0;
-  EXPECT_EQ(sf.process(big).num_invalid, 1);
+  const auto rb = sf.process(big);
+  EXPECT_EQ(rb.num_invalid, 1);
+  EXPECT_EQ(rb.num_out_of_range, 1);
   EXPECT_THROW(sf.process(static_cast<const float*>(nullptr), 3, 3), std::invalid_argument);
   EXPECT_NO_THROW(sf.process(static_cast<const float*>(nullptr), 0, 3));
   float row[3] = {0, 0, 0};
   EXPECT_THROW(sf.process(row, 1, 2), std::invalid_argument);
+}
+
+// Regression: a table, an object and >= 16 rows at float max aborted inside FLANN (the
+// candidates' span made the grid path fall back to PCL's kd-tree). Rows beyond
+// max_abs_coordinate_m are now dropped and counted like NaN rows, and cost nothing.
+TEST(SceneFilter, AbsurdCoordinatesAreDroppedCountedAndReportedOnce) {
+  const SceneBuilder b = grasp_test::reference_tabletop(10, 0.002, 0.0015);
+  const PointsF clean = b.points_f();
+  PointsF pts(clean.rows() + 20, 3);
+  pts.topRows(clean.rows()) = clean;
+  const float big = std::numeric_limits<float>::max();
+  for (Eigen::Index i = clean.rows(); i < pts.rows(); ++i) pts.row(i) << big, big, -big;
+  pts.row(clean.rows()) << 0.5f, 0.0f, 1001.0f;  // just beyond the default bound
+  SceneFilter sf{SceneFilterParams{}};
+  const auto r = sf.process(pts);
+  SceneFilter ref{SceneFilterParams{}};
+  const auto rc = ref.process(clean);  // the same frame without the absurd rows (has NaN rows)
+  EXPECT_EQ(r.num_out_of_range, 20);
+  EXPECT_EQ(r.num_invalid, rc.num_invalid + 20);
+  EXPECT_EQ(r.num_valid, rc.num_valid);
+  EXPECT_DOUBLE_EQ(r.max_abs_coordinate_m, 1000.0);
+  for (Eigen::Index i = clean.rows(); i < pts.rows(); ++i)
+    EXPECT_EQ(r.labels[static_cast<std::size_t>(i)], kLabelInvalid);
+  EXPECT_EQ(std::vector<int>(r.labels.begin(), r.labels.begin() + clean.rows()), rc.labels);
+  ASSERT_FALSE(r.events.empty());
+  EXPECT_EQ(r.events[0].level, FrameEvent::Level::kWarning);
+  EXPECT_NE(r.events[0].message.find("max_abs_coordinate_m"), std::string::npos);
+  const auto r2 = sf.process(pts);  // later frames: debug level
+  ASSERT_FALSE(r2.events.empty());
+  EXPECT_EQ(r2.events[0].level, FrameEvent::Level::kDebug);
+  sf.reset();
+  EXPECT_EQ(sf.process(pts).events[0].level, FrameEvent::Level::kWarning);
+  // The bound is a parameter.
+  SceneFilterParams wide;
+  wide.max_abs_coordinate_m = 2000.0;
+  EXPECT_EQ(SceneFilter(wide).process(pts).num_out_of_range, 19);
 }
 
 TEST(SceneFilter, StridedFloatAndDoubleInputsAgreeAndSessionsAreReproducible) {

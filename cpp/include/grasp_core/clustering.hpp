@@ -25,17 +25,22 @@ struct ClusterInfo {
 
 struct ClusterResult {
   /// One per input point: an accepted cluster id >= 0, kLabelEnvironment (noise or a
-  /// rejected cluster) or kLabelInvalid (non-finite row).
+  /// rejected cluster) or kLabelInvalid (non-finite row, or a |coordinate| beyond
+  /// max_abs_coordinate_m).
   std::vector<int> labels;
   /// Every component with >= min_points points: accepted ones first (label 0, 1, ...),
   /// then the rejected ones; each group ordered by decreasing size, ties by lowest point index.
   std::vector<ClusterInfo> clusters;
   int num_accepted = 0;    ///< accepted clusters; their labels are 0 .. num_accepted-1
   int num_components = 0;  ///< all connected components (including noise)
+  int num_invalid = 0;     ///< rows dropped (kLabelInvalid): NaN/Inf or out of range
+  int num_out_of_range = 0;  ///< of num_invalid: finite rows beyond max_abs_coordinate_m
 };
 
-/// Euclidean clustering of the finite rows of an N x 3 strided float array
+/// Euclidean clustering of the valid rows of an N x 3 strided float array
 /// (row i at xyz + i * row_stride_floats; row_stride_floats >= 3, else std::invalid_argument).
+/// Valid = finite with every |coordinate| <= max_abs_coordinate_m (in (0, 1e9], else
+/// std::invalid_argument); the others are labelled kLabelInvalid and counted.
 ///
 /// Labels are compact: accepted clusters get 0 .. K-1 by decreasing point count (ties:
 /// lowest first point index), so the labelling is a deterministic function of the partition.
@@ -54,14 +59,21 @@ struct ClusterResult {
 /// ~9k points where the reference takes ~0.2-0.3 s), so voxel_m only selects the path: any
 /// value > 0 gives the same result. Clouds spanning more than 2^21 grid cells per axis fall
 /// back to the reference path.
+/// The reference path merges exact duplicate points before PCL runs (same partition), so
+/// N identical rows cost O(N log N); a dense blob of N distinct points within eps of each
+/// other still costs O(N^2) there, as in PCL (the fast path is linear in that case).
 /// eps_m must be > 0 (else std::invalid_argument); min_points < 1 acts as 1.
 ClusterResult euclidean_clusters(const float* xyz, std::size_t n_rows,
                                  std::size_t row_stride_floats, double eps_m, int min_points,
-                                 double min_extent_m, double max_extent_m, double voxel_m);
-/// Convenience overloads (same semantics).
+                                 double min_extent_m, double max_extent_m, double voxel_m,
+                                 double max_abs_coordinate_m = kDefaultMaxAbsCoordinate_m);
+/// Convenience overloads (same semantics; for double input the bound is checked before the
+/// conversion to float).
 ClusterResult euclidean_clusters(const PointsF& points, double eps_m, int min_points,
-                                 double min_extent_m, double max_extent_m, double voxel_m);
+                                 double min_extent_m, double max_extent_m, double voxel_m,
+                                 double max_abs_coordinate_m = kDefaultMaxAbsCoordinate_m);
 ClusterResult euclidean_clusters(const PointsD& points, double eps_m, int min_points,
-                                 double min_extent_m, double max_extent_m, double voxel_m);
+                                 double min_extent_m, double max_extent_m, double voxel_m,
+                                 double max_abs_coordinate_m = kDefaultMaxAbsCoordinate_m);
 
 }  // namespace grasp_core

@@ -36,7 +36,7 @@ struct ObjectEstimate {
   std::string resting_note;     ///< the "floating/stacked" note, empty when resting
   std::vector<std::string> notes;               ///< hard notes (refusal reasons), English
   std::vector<std::string> undetermined_notes;  ///< informative only, never a refusal
-  int num_points = 0;           ///< finite points used
+  int num_points = 0;           ///< valid points used (finite, within the coordinate bound)
 };
 
 /// An estimate, or the reason there is none (e.g. PCA failed, too few points).
@@ -47,11 +47,20 @@ struct EstimateResult {
 
 /// Estimate one object from its cluster (SPEC 2).
 ///
-/// @param pts        cluster points in world (non-finite rows are ignored defensively)
+/// @param pts        cluster points in world (rows with a NaN/Inf or a |coordinate| beyond
+///                   max_abs_coordinate_m are ignored defensively)
 /// @param plane      the locked table plane (n need not be exactly unit; it is normalised)
 /// @param p          validated OBB parameters
 /// @param theta_prev prior closing direction [rad] (tracker's smoothed theta), if any
 /// @param band       the scene filter's band [m]; unknown -> resting is undetermined
+/// @param max_abs_coordinate_m  sane coordinate bound [m] (SceneFilterParams' value in the
+///                   per-frame path)
+///
+/// No estimate (a failure text instead) for: an invalid plane, fewer than 3 valid points,
+/// a failed PCA (SPEC 2.5), and (ours) a cluster that is not above the plane, i.e. whose
+/// slice-median top is below it (height < 0): SPEC 2 estimates objects standing on the
+/// plane, and a box with a negative height is no box; the guards of 2.6 (e.g. "too low")
+/// judge estimates that exist, with 0 <= height.
 ///
 /// Resting (2.6) is judged only when the sides are visible, which here means the lowest
 /// point lies more than (top_slice_sigmas + side_seen_sigmas) * depth_noise_sigma below the
@@ -60,7 +69,8 @@ struct EstimateResult {
 /// and an undetermined note is added.
 EstimateResult estimate_object(const PointsD& pts, const Plane& plane, const ObbParams& p,
                                std::optional<double> theta_prev = std::nullopt,
-                               std::optional<double> band = std::nullopt);
+                               std::optional<double> band = std::nullopt,
+                               double max_abs_coordinate_m = kDefaultMaxAbsCoordinate_m);
 
 /// Recompute height_ok, width_ok, grasp_ok and the hard notes (resting_note first, then
 /// the size notes) from the estimate's current width_m / height_m / resting. Used by

@@ -9,6 +9,8 @@
 #include <cstdint>
 #include <string>
 
+#include "grasp_core/types.hpp"
+
 namespace grasp_core {
 
 struct SceneFilterParams {
@@ -31,6 +33,9 @@ struct SceneFilterParams {
   double band = 0.01;                    ///< band above the plane [m]
   double cluster_voxel_m = 0.003;        ///< (ours) > 0: the fast grid clustering (same partition as PCL, grid cell min(this, eps/sqrt 3)); 0: per-point PCL clustering [m]
   std::uint64_t seed = 0;                ///< (ours) RNG seed: runs are reproducible
+  /// (ours) sane coordinate bound [m]: rows with any |coordinate| above it are dropped and
+  /// counted (SceneFilterResult::num_out_of_range), like NaN rows. In (0, 1e9].
+  double max_abs_coordinate_m = kDefaultMaxAbsCoordinate_m;
 
   /// Throws std::invalid_argument naming the offending parameter.
   void validate() const;

@@ -31,7 +31,9 @@ struct PerceptionFrame {
   double ms_total = 0.0;                  ///< whole process() call [ms]
 };
 
-/// Scene filter + estimates + tracker for one camera session.
+/// Scene filter + estimates + tracker for one camera session. Not thread-safe by itself;
+/// the Python binding serialises every call on one instance (and on its scene_filter /
+/// tracker views) with one mutex.
 class Perception {
  public:
   /// Validates both parameter sets (std::invalid_argument naming the parameter).

@@ -27,7 +27,8 @@ struct PlaneFit {
   int iterations = 0;    ///< RANSAC models evaluated
 };
 
-/// SPEC 1.1 on every finite row of `points` (non-finite rows are ignored).
+/// SPEC 1.1 on every valid row of `points`: rows with a NaN/Inf or a |coordinate| beyond
+/// params.max_abs_coordinate_m are ignored.
 ///
 /// - Minimal sample: 3 distinct points (PCL draws them without replacement by a partial
 ///   shuffle of the index list). Collinear samples (|(p2-p1)x(p3-p1)| below PCL's float
@@ -48,7 +49,7 @@ struct PlaneFit {
 ///   matrix, computed in double), re-oriented to n_z > 0. If the refined normal is more
 ///   than plane_max_tilt_deg from +z (degenerate inlier set), the unrefined RANSAC model
 ///   is kept (refined = false).
-/// Returns std::nullopt for fewer than 3 finite points or when no valid model was found.
+/// Returns std::nullopt for fewer than 3 valid points or when no valid model was found.
 /// Throws std::invalid_argument (naming the parameter) if `params` is invalid.
 std::optional<PlaneFit> fit_plane_ransac(const PointsD& points, const SceneFilterParams& params,
                                          std::uint64_t seed);

@@ -26,7 +26,8 @@ struct PlaneCandidate {
   bool refined = false;       ///< PlaneFit::refined
 };
 
-/// SPEC 1.2 on the finite rows of a strided float array (row i at xyz + i*stride, stride >= 3).
+/// SPEC 1.2 on the valid rows of a strided float array (row i at xyz + i*stride, stride >= 3):
+/// finite, with every |coordinate| <= params.max_abs_coordinate_m.
 /// Plane k searches a subsample of at most plane_fit_max_points drawn without replacement,
 /// with a std::mt19937_64 seeded from (seed, k), from the points not yet assigned to a
 /// plane; accepted if the RANSAC model has >= plane_min_inlier_ratio x subsample size
@@ -52,7 +53,8 @@ int choose_table(const std::vector<PlaneCandidate>& planes, double dominance);
 
 /// Everything the scene filter computed for one frame.
 struct SceneFilterResult {
-  /// One per INPUT row: kLabelInvalid (NaN/Inf row), kLabelEnvironment, or an accepted
+  /// One per INPUT row: kLabelInvalid (NaN/Inf row, or a |coordinate| beyond
+  /// max_abs_coordinate_m), kLabelEnvironment, or an accepted
   /// object group id >= 0 (frame-local, compact 0..K-1, see euclidean_clusters()).
   /// When environment_emitted is false (before the first lock) every valid row is
   /// kLabelEnvironment but no environment cloud should be published.
@@ -64,8 +66,10 @@ struct SceneFilterResult {
   double band = 0.0;                 ///< SPEC band [m] (session constant)
   std::vector<PlaneCandidate> planes;   ///< all planes extracted this frame
   int table_index = -1;              ///< index of the table in planes, -1 if none
-  int num_valid = 0;                 ///< finite rows
-  int num_invalid = 0;               ///< NaN/Inf rows (dropped)
+  int num_valid = 0;                 ///< rows used: finite and within the coordinate bound
+  int num_invalid = 0;               ///< rows dropped (kLabelInvalid): NaN/Inf or out of range
+  int num_out_of_range = 0;          ///< of num_invalid: finite rows with a |coordinate| > max_abs_coordinate_m
+  double max_abs_coordinate_m = 0.0; ///< the coordinate bound applied this frame [m]
   int num_candidates = 0;            ///< valid points above the band (clustering input)
   std::vector<int> cluster_ids;      ///< accepted object group ids this frame (ascending)
   std::vector<ClusterInfo> clusters; ///< every component >= cluster_min_points (diagnostic)
@@ -88,8 +92,11 @@ class SceneFilter {
   /// Process one N x 3 frame in `world`. Row i starts at xyz + i * row_stride (in elements,
   /// >= 3; a numpy (N,3) C-contiguous array has stride 3). No copy of the caller's array is
   /// kept. Throws std::invalid_argument on stride < 3 or xyz == nullptr with n_rows > 0.
-  /// Coordinates are processed as float (double input is converted; float resolution is
-  /// < 0.1 um at workspace scale); a double beyond float range counts as non-finite.
+  /// Rows with a NaN/Inf or a |coordinate| > params.max_abs_coordinate_m are dropped
+  /// (kLabelInvalid, counted in num_invalid; the latter also in num_out_of_range, with a
+  /// WARNING event the first time in a session and DEBUG after). The check is made on the
+  /// input values, then coordinates are processed as float (float resolution is < 0.1 um
+  /// at workspace scale).
   /// Every call is one frame: it advances frame_index() and the persistence state.
   SceneFilterResult process(const float* xyz, std::size_t n_rows, std::size_t row_stride);
   SceneFilterResult process(const double* xyz, std::size_t n_rows, std::size_t row_stride);
@@ -108,6 +115,7 @@ class SceneFilter {
   SceneFilterParams params_;
   PlanePersistence persistence_;
   int frame_index_ = 0;
+  bool out_of_range_reported_ = false;  ///< the out-of-range WARNING was emitted this session
 };
 
 }  // namespace grasp_core

@@ -30,7 +30,8 @@ struct Track {
   std::deque<double> width_m_, perp_width_m_, height_m_, theta_rad_, anisotropy_;
 };
 
-/// Tracker of SPEC 4. Not thread-safe; one instance per perception session.
+/// Tracker of SPEC 4. Not thread-safe by itself (one instance per perception session); the
+/// Python binding serialises every call on one instance with a mutex.
 class Tracker {
  public:
   explicit Tracker(const ObbParams& p);
@@ -77,6 +78,7 @@ class Tracker {
 std::vector<EstimateResult> estimate_with_priors(const std::vector<PointsD>& clusters,
                                                  const Plane& plane, const ObbParams& p,
                                                  const Tracker& tracker,
-                                                 std::optional<double> band = std::nullopt);
+                                                 std::optional<double> band = std::nullopt,
+                                                 double max_abs_coordinate_m = kDefaultMaxAbsCoordinate_m);
 
 }  // namespace grasp_core

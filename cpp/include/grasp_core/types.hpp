@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -22,6 +23,24 @@ using PointsD = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 /// Per-point label values used by the scene filter (object labels are >= 0).
 constexpr int kLabelInvalid = -2;      ///< NaN / Inf input row (dropped before processing)
 constexpr int kLabelEnvironment = -1;  ///< table, floor, walls, band, rejected clusters
+
+/// (ours) Default sane coordinate bound [m]: a point with any |coordinate| above it is
+/// dropped and counted like a NaN row (SceneFilterParams::max_abs_coordinate_m, and the
+/// max_abs_coordinate_m argument of the fine-grained functions). A workspace is metres
+/// across; values near float max are sensor garbage that overflow the geometry (a kd-tree
+/// split midpoint of two points at 3.4e38 is +inf, which aborts FLANN).
+constexpr double kDefaultMaxAbsCoordinate_m = 1000.0;
+/// Largest bound validate() accepts [m]: with it, sums and midpoints of coordinates in
+/// float stay far from overflow.
+constexpr double kMaxAbsCoordinateLimit_m = 1.0e9;
+
+/// True when p is finite and every |coordinate| <= bound (NaN bound: nothing is in).
+template <typename T>
+inline bool within_bound(T x, T y, T z, double bound) {
+  const double b = bound;
+  return std::abs(static_cast<double>(x)) <= b && std::abs(static_cast<double>(y)) <= b &&
+         std::abs(static_cast<double>(z)) <= b;
+}
 
 /// A plane n.p + c = 0 with |n| = 1 and n_z > 0.
 struct Plane {

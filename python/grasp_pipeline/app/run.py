@@ -13,7 +13,7 @@ from __future__ import annotations
 import logging
 import time
 from pathlib import Path
-from typing import Optional, Sequence
+from typing import Callable, Optional, Sequence
 
 from ..evaluation import scoring
 from ..evaluation.pick_evaluator import PickEvaluator
@@ -60,7 +60,12 @@ def _rough_view(system: System, settings: Settings, report: RunReport, snapshots
 def _scan(system: System, settings: Settings, report: RunReport, snapshots) -> None:
     t0 = time.perf_counter()
     trig = system.scanner.trigger()
-    outcome = system.rt.run(system.scanner.task, settings.scan.scan_timeout_s) if trig.accepted else None
+    outcome, failure = None, ""
+    try:
+        outcome = system.rt.run(system.scanner.task, settings.scan.scan_timeout_s) if trig.accepted else None
+    except TimeoutError as exc:  # the scan task was closed: the arm holds where it is
+        system.world.hold()
+        failure = str(exc)
     report.timings["scan_s"] = time.perf_counter() - t0
     system.rt.spin(settings.scan.settle_view_s)
     view = _view(system, settings, snapshots, "scan_done")
@@ -69,7 +74,7 @@ def _scan(system: System, settings: Settings, report: RunReport, snapshots) -> N
         completed=bool(outcome and outcome.completed),
         returned_to_start=bool(outcome and outcome.returned_to_start),
         joint_error_rad=None if outcome is None else outcome.joint_error_rad,
-        failure="" if outcome is None else outcome.failure,
+        failure=failure if outcome is None else outcome.failure,
         probes=[] if outcome is None else list(outcome.probes))
 
 
@@ -104,32 +109,37 @@ def _check_outputs(out_dir: Path, json_path, video: bool) -> None:
         check_writable(json_path, "report file (--json)")
 
 
-def _recorders(system: System, out_dir: Path, video: bool):
+def _recorders(system: System, out_dir: Path, video: bool, report: RunReport):
+    """(snapshots, video recorder or None); subscribes them and the pick evaluation."""
     snapshots = SnapshotRecorder(out_dir, SNAPSHOTS).attach(system.events)
     PickEvaluator(system.world).attach(system.events)
-    recorder = None
-    if video:
-        from ..sim.exceptions import RenderUnavailable
-        from ..sim.scene_view import SceneView
+    if not video:
+        return snapshots, None
+    from ..sim.exceptions import RenderUnavailable
+    from ..sim.scene_view import SceneView
 
-        try:
-            view = SceneView(system.world)
-            recorder = VideoRecorder(view.render, out_dir / "run.mp4", on_close=view.close)
-            recorder.attach(system.events)
-        except RenderUnavailable as exc:
-            log.warning("no video: %s", exc)
-            return snapshots, None, f"video skipped: {exc}"
-    return snapshots, recorder, None
+    try:
+        view = SceneView(system.world)
+    except RenderUnavailable as exc:
+        log.warning("no video: %s", exc)
+        report.warnings.append(f"video skipped: {exc}")
+        return snapshots, None
+    recorder = VideoRecorder(view.render, out_dir / "run.mp4", on_close=view.close)
+    return snapshots, recorder.attach(system.events)
 
 
 def run_pipeline(scene: str = "reference", seed: int = 0,
                  select: Optional[Sequence[tuple[float, float]]] = None,
                  out_dir: str | Path = "out", json_path: str | Path | None = None,
                  settings: Optional[Settings] = None, video: bool = True, place: bool = True,
-                 scan: bool = True, grasp_source: Optional[GraspSource] = None) -> RunReport:
+                 scan: bool = True, grasp_source: Optional[GraspSource] = None,
+                 prepare: Optional[Callable[[System], None]] = None) -> RunReport:
     """Run the whole pipeline headless; returns (and writes to ``json_path``) the report.
 
-    ``grasp_source``: where grasps come from (default: the geometric SPEC 3 grasp)."""
+    ``scene``: ``"reference"``, ``"random"`` (with ``seed``) or a ``SceneSpec``;
+    ``grasp_source``: where grasps come from (default: the geometric SPEC 3 grasp);
+    ``prepare(system)``: called once the system is built, before anything runs (attach your
+    own recorders to ``system.events``, or inject faults in tests)."""
     wall0 = time.perf_counter()
     settings = settings or load_settings(SECTIONS)
     out_dir = Path(out_dir)
@@ -138,11 +148,12 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
     report = RunReport(scene={"name": spec.name, "seed": seed, "objects": len(spec.objects)},
                        settings=settings.as_dict())
     system = build_system(spec, settings)
-    snapshots, recorder, note = _recorders(system, out_dir, video)
-    if note:
-        report.warnings.append(note)
+    recorders = None
     try:
-        _stages(system, settings, report, snapshots, select, scan, place,
+        if prepare is not None:
+            prepare(system)
+        recorders = _recorders(system, out_dir, video, report)
+        _stages(system, settings, report, recorders[0], select, scan, place,
                 grasp_source or GeometricGraspSource())
         report.status = STATUS_FAILED if report.error else STATUS_COMPLETE
     except KeyboardInterrupt:
@@ -153,20 +164,26 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
         system.world.hold()
         report.status, report.error = STATUS_FAILED, f"{type(exc).__name__}: {exc}"
         log.error("run failed: %s", exc)
+    except Exception as exc:  # a bug: the report says so, then the traceback is shown
+        system.world.hold()
+        report.status, report.error = STATUS_FAILED, f"internal error {type(exc).__name__}: {exc}"
+        raise
     finally:
-        _close(system, report, recorder, snapshots)
+        _close(system, report, recorders)
         report.timings["wall_s"] = time.perf_counter() - wall0
         if json_path is not None:
             write_json(json_path, report)
     return report
 
 
-def _close(system: System, report: RunReport, recorder, snapshots) -> None:
+def _close(system: System, report: RunReport, recorders) -> None:
     report.motion_plans = list(system.motion.plans)
+    snapshots, recorder = recorders if recorders is not None else (None, None)
     if recorder is not None:
         report.video = recorder.close()
         if recorder.problem:
             report.warnings.append(recorder.problem)
-    report.warnings.extend(snapshots.problems)
+    if snapshots is not None:
+        report.warnings.extend(snapshots.problems)
     report.warnings.extend(system.events.failures)
     system.close()

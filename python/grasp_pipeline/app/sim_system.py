@@ -14,6 +14,7 @@ from ..orchestration import (ActiveScan, EventBus, GraspAction, MotionClient, Pe
 from ..perception import PerceptionSession
 from ..robot.description import GRIPPER_MAX_WIDTH_M, flange_T_camera
 from ..settings import Settings
+from ..sim.scene_spec import SceneSpec
 from ..sim.scenes import random_scene, reference_scene
 from ..sim.world import SimWorld
 
@@ -39,8 +40,11 @@ class System:
         self.world.close()
 
 
-def make_scene(scene: str, seed: int, settings: Settings):
-    """The reference scene (SPEC 8) or a seeded random scene."""
+def make_scene(scene, seed: int, settings: Settings):
+    """The reference scene (SPEC 8), a seeded random scene, or ``scene`` itself when it is a
+    :class:`~grasp_pipeline.sim.scene_spec.SceneSpec`."""
+    if isinstance(scene, SceneSpec):
+        return scene
     if scene == "reference":
         return reference_scene(settings.sim)
     if scene == "random":

@@ -296,7 +296,9 @@ def run_scene(index: int, seed: int, out_dir: str | Path, overrides: tuple = (No
 def _child_main(conn, index: int, seed: int, out_dir: str, log_level: int,
                 overrides: tuple = (None, ())) -> None:
     """Entry point of a spawned scene process: run the scene, send the record, exit."""
-    logging.basicConfig(level=log_level, format=f"%(asctime)s %(levelname)s [scene {index}] %(name)s: %(message)s")
+    from ..logs import setup_logging
+
+    setup_logging(log_level, tag=f"[scene {index}] ")
     try:
         rec = run_scene(index, seed, out_dir, overrides)
     except BaseException as exc:  # (run_scene catches Exception; this is e.g. SystemExit)

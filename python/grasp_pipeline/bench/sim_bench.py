@@ -16,8 +16,6 @@ a machine shared with other work, where wall-clock factors drop with the load.
 
 from __future__ import annotations
 
-import argparse
-import json
 import logging
 import os
 import platform
@@ -106,11 +104,3 @@ def run_sim_benchmark(seconds: float, json_path: str | Path | None) -> dict:
              result["real_time_factor"], result["frames"])
     return result
 
-
-if __name__ == "__main__":
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--seconds", type=float, default=5.0, help="simulated seconds per pass")
-    parser.add_argument("--json", type=Path, default=None, help="where to write the JSON result")
-    args = parser.parse_args()
-    logging.basicConfig(level=logging.INFO, format="%(levelname)s %(name)s: %(message)s")
-    print(json.dumps(run_sim_benchmark(args.seconds, args.json), indent=2, sort_keys=True))

@@ -13,6 +13,15 @@ Supported inputs:
 
 Every failure is an :class:`~grasp_pipeline.exceptions.InputError` whose message names the
 file and what is wrong (missing file, unsupported extension, no x/y/z fields, wrong shape…).
+ASCII bodies (PCD ``DATA ascii`` and ASCII PLY) are checked line by line before PCL reads
+them, because PCL would silently read a non-number as 0 (PCD) or NaN (PLY): a value that is
+not a number of its field's type (``nan``/``inf`` are numbers), a line with too few or too
+many values, or fewer/more lines than the header declares is an InputError naming the line
+number and the field, e.g. ``cloud.pcd: PCD ascii data, line 12: field 'y' (column 2):
+'abc' is not a number``.
+
+Finite but absurd coordinates (e.g. 3.4e38) are loaded as they are; the perception core
+drops points beyond ``max_abs_coordinate_m`` (scene filter config) like NaN rows.
 
 ``save_pcd`` writes (N, 3) or (H, W, 3) points with PCL's writer (default encoding
 ``binary_compressed``, the compact one PCL tools read).

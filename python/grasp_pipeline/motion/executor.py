@@ -64,12 +64,13 @@ class TrajectoryExecutor:
                              reason=reason, time_s=t)
 
     def execute(self, traj: JointTrajectory, allowance: ContactAllowance = ContactAllowance.NONE,
-                wait_settled: bool = True) -> ExecutionReport:
+                wait_settled: bool = True, release_contacts: bool = False) -> ExecutionReport:
         """Run ``traj`` to completion (blocking in simulated time); see the module doc.
 
         ``allowance``: which contacts this motion expects (e.g. ``FINGERS`` on the object
-        being grasped)."""
-        steps = self.execute_steps(traj, allowance, wait_settled)
+        being grasped). ``release_contacts``: contacts present when the motion starts are
+        tolerated (a recovery moving away from what stopped the arm); new ones still stop it."""
+        steps = self.execute_steps(traj, allowance, wait_settled, release_contacts)
         while True:
             try:
                 next(steps)
@@ -77,7 +78,7 @@ class TrajectoryExecutor:
                 return done.value
 
     def execute_steps(self, traj: JointTrajectory, allowance: ContactAllowance = ContactAllowance.NONE,
-                      wait_settled: bool = True):
+                      wait_settled: bool = True, release_contacts: bool = False):
         """Generator form of :meth:`execute` for cooperative callers (the orchestrator's
         runtime): it steps the world itself and yields after every physics step, so other
         tasks (a scan's status, perception) can run in between; returns the report."""
@@ -92,12 +93,15 @@ class TrajectoryExecutor:
             raise ExecutionError(
                 f"trajectory starts {start_err:.3f} rad away from the current joints "
                 f"(limit {cfg.tracking_error_limit_rad} rad); not executed", reason="input")
+        tolerated = set(w.unexpected_contacts(allowance)) if release_contacts else set()
+        if tolerated:
+            log.info("moving away from contacts %s", sorted(tolerated))
         t_start = float(w.time_s)
         t_end = w.follow_trajectory(traj.t_s, traj.q, traj.qd)
         try:
             while w.time_s < t_end - 0.5 * w.timestep_s:
                 w.step(_MONITOR_EVERY_STEPS)
-                self._monitor(rep, allowance)
+                self._monitor(rep, allowance, tolerated)
                 yield
             rep.duration_s = float(w.time_s - t_start)
             if wait_settled:
@@ -113,7 +117,7 @@ class TrajectoryExecutor:
                         self._stop("settle", f"the arm did not settle within {cfg.settle_timeout_s} s "
                                              f"(error {err:.4f} rad, speed {np.max(np.abs(w.qd)):.4f} rad/s)")
                     w.step(_MONITOR_EVERY_STEPS)
-                    self._monitor(rep, allowance)
+                    self._monitor(rep, allowance, tolerated)
                     yield
                 rep.settle_time_s = float(w.time_s - t_start - rep.duration_s)
             rep.final_error_rad = float(np.max(np.abs(w.q - traj.q[-1])))
@@ -124,7 +128,7 @@ class TrajectoryExecutor:
             raise
         return rep
 
-    def _monitor(self, rep: ExecutionReport, allowance: ContactAllowance) -> None:
+    def _monitor(self, rep: ExecutionReport, allowance: ContactAllowance, tolerated: set) -> None:
         cfg = self.config
         w = self.world
         q_ref, _ = w.reference()
@@ -132,7 +136,7 @@ class TrajectoryExecutor:
         rep.max_tracking_error_rad = max(rep.max_tracking_error_rad, err)
         if err > cfg.tracking_error_limit_rad:
             self._stop("tracking", f"tracking error {err:.4f} rad exceeds {cfg.tracking_error_limit_rad} rad")
-        bad = w.unexpected_contacts(allowance)
+        bad = [c for c in w.unexpected_contacts(allowance) if c not in tolerated]
         if bad:
             rep.contacts.extend(bad)
             if cfg.stop_on_contact:

@@ -74,7 +74,7 @@ def close_until_stall(robot, width_m: float, config: GraspConfig):
 
 
 def _check_held(robot, width_m: float, config: GraspConfig) -> float:
-    gap, force = robot.finger_gap_m, robot.gripper_force_N
+    gap, force = robot.finger_gap_m, max(0.0, robot.gripper_force_N)
     if gap < config.fully_closed_gap_m:
         raise StageFailure(f"gripper fully closed ({gap * 1e3:.1f} mm): missed the object")
     min_force = config.held_min_force_N

@@ -72,14 +72,16 @@ class MotionClient:
         """Task generator: run a planned trajectory (it must start at the commanded joints)."""
         return (yield from self._execute(kind, traj, allowance))
 
-    def _execute(self, kind: str, traj: JointTrajectory, allowance: ContactAllowance = NONE):
+    def _execute(self, kind: str, traj: JointTrajectory, allowance: ContactAllowance = NONE,
+                 release_contacts: bool = False):
         plan = {"kind": kind, "method": traj.path.method if traj.path else "",
                 "planning_ms": traj.path.planning_ms if traj.path else 0.0,
                 "timing_ms": traj.timing_ms, "duration_s": traj.duration_s}
         self.plans.append(plan)
         if self.events.wants(PlanEvent):
             self.events.publish(PlanEvent(float(self.world.time_s), **plan))
-        report: ExecutionReport = yield from self.executor.execute_steps(traj, allowance)
+        report: ExecutionReport = yield from self.executor.execute_steps(
+            traj, allowance, release_contacts=release_contacts)
         self.q_cmd = traj.q[-1].copy()
         return report
 
@@ -87,21 +89,23 @@ class MotionClient:
         """Task generator: straight up by ``distance_m`` when the planner refuses to start
         (the arm sits inside a *clearance*, e.g. after opening the fingers near a wall).
         The short joint-space line to the IK solution above is not collision-checked against
-        the clearance; the executor still stops on any real contact."""
+        the clearance; contacts present at its start are tolerated (moving away from what
+        stopped the arm), any new contact stops it."""
         T = self.world.tcp_pose().copy()
         T[2, 3] += max(0.0, float(distance_m))
         ik = self.planner.solve_ik(T, self.q_cmd, "tcp")
         path = JointPath(np.vstack([self.q_cmd, ik.q]), 0.0, "escape", 0, 0)
         traj = self.planner.timer.time_path(path)
-        return (yield from self._execute(kind, traj))
+        return (yield from self._execute(kind, traj, release_contacts=True))
 
     def sync(self) -> None:
         """After a stop, plan from where the arm actually is."""
         self.q_cmd = np.asarray(self.world.q, dtype=float).copy()
 
-    def to_joints(self, q_goal: np.ndarray, kind: str = "joints", allowance: ContactAllowance = NONE):
+    def to_joints(self, q_goal: np.ndarray, kind: str = "joints", allowance: ContactAllowance = NONE,
+                  release_contacts: bool = False):
         traj = self.planner.plan_to_joints(self.q_cmd, np.asarray(q_goal, dtype=float))
-        return (yield from self._execute(kind, traj, allowance))
+        return (yield from self._execute(kind, traj, allowance, release_contacts))
 
     def to_pose(self, T_world: np.ndarray, frame: str = "tcp", kind: str = "pose",
                 allowance: ContactAllowance = NONE):
@@ -109,7 +113,9 @@ class MotionClient:
         return (yield from self._execute(kind, traj, allowance))
 
     def line(self, T_world: np.ndarray, frame: str = "tcp", kind: str = "line",
-             allow_target_contact: bool = False, allowance: ContactAllowance = NONE):
-        """Straight TCP line; ``allowance``: the contacts this motion expects."""
+             allow_target_contact: bool = False, allowance: ContactAllowance = NONE,
+             release_contacts: bool = False):
+        """Straight TCP line; ``allowance``: the contacts this motion expects;
+        ``release_contacts``: contacts present at the start are tolerated (moving away)."""
         traj = self.planner.plan_cartesian(self.q_cmd, T_world, frame, allow_target_contact)
-        return (yield from self._execute(kind, traj, allowance))
+        return (yield from self._execute(kind, traj, allowance, release_contacts))

@@ -26,6 +26,7 @@ import numpy as np
 from .. import _core
 from ..results import PickResult
 from .events import PickEvent, StageEvent
+from .place import recover
 from .grasp_source import GeometricGraspSource, GraspRequest, GraspSource
 from .scene_model import snapshot
 from .selection import check_selection
@@ -41,7 +42,7 @@ class PickContext:
     loop: object          # PerceptionLoop
     action: object        # GraspAction
     scanner: Optional[object]  # ActiveScan (None: no re-probe)
-    settings: object      # Settings: scan, grasp, obb
+    settings: object      # Settings: scan, grasp, obb, motion
     source: GraspSource = GeometricGraspSource()
     place: bool = True
 
@@ -67,10 +68,17 @@ def reprobe_if_needed(ctx: PickContext, xy, row: PickResult) -> None:
     if centre is None or ctx.scanner is None:
         return
     res = ctx.scanner.trigger(centres=[centre])
-    if res.accepted:
+    if not res.accepted:
+        return
+    try:
         out = ctx.rt.run(ctx.scanner.task, ctx.settings.scan.scan_timeout_s)
-        row.reprobed = bool(out.probes and out.probes[0].nadir)
-        ctx.rt.spin(ctx.settings.scan.settle_view_s)
+    except TimeoutError as exc:
+        ctx.rt.world.hold()
+        log.warning("re-probe did not finish: %s", exc)
+        row.reprobed = False
+        return
+    row.reprobed = bool(out.probes and out.probes[0].nadir)
+    ctx.rt.spin(ctx.settings.scan.settle_view_s)
 
 
 def _select_and_verify(ctx: PickContext, xy, row: PickResult):
@@ -117,13 +125,38 @@ def _run_action(ctx: PickContext, xy, sel, row: PickResult):
         # lifted there is nothing left to publish there, and that is no news).
         loop.selector.clear()
         rt.events.publish(StageEvent(float(rt.world.time_s), "pick_start", f"{xy[0]} {xy[1]}"))
-        return rt.run(action.task, ctx.settings.grasp.pick_timeout_s)
+        try:
+            return rt.run(action.task, ctx.settings.grasp.pick_timeout_s)
+        except TimeoutError as exc:  # the task was closed: the arm holds where it is
+            rt.world.hold()
+            row.failed_stage = action.stage.value if action.stage else "GRASP"
+            row.message = f"{exc}; the arm holds"
+            return None
     finally:
         loop.selector.clear()
 
 
+def return_to_start(ctx: PickContext) -> None:
+    """When an earlier failure left the arm away from its start joints (e.g. stopped by a
+    contact and unable to retreat), recover first: open, move away from the contact, go home —
+    so the next pick does not begin from an invalid start state."""
+    action, rt = ctx.action, ctx.rt
+    if action.home_q is None or action.task is not None and not action.task.done:
+        return
+    err = float(np.max(np.abs(np.asarray(rt.world.q) - action.home_q)))
+    if err <= ctx.settings.motion.settle_position_tol_rad:
+        return
+    log.warning("the arm is %.3f rad from its start joints before the next pick: recovering first", err)
+    try:
+        rt.run(rt.start("recover", recover(action)), ctx.settings.grasp.pick_timeout_s)
+    except TimeoutError as exc:
+        rt.world.hold()
+        log.error("recovery did not finish: %s", exc)
+
+
 def pick_object(ctx: PickContext, xy) -> PickResult:
     """Pick (and place) the object at ``xy`` [m, world]; see the module doc."""
+    return_to_start(ctx)
     ctx.rt.spin(ctx.settings.scan.settle_view_s)
     row = PickResult(anchor=[float(xy[0]), float(xy[1])], grasp_source=ctx.source.name)
     if ctx.scanner is not None:

@@ -120,7 +120,8 @@ def _retreat(action):
         n = np.asarray(action.loop.plane.n if action.loop.plane is not None else [0, 0, 1.0])
         T = robot.tcp_pose().copy()
         T[:3, 3] += cfg.retreat_height_m * n
-        yield from motion.line(T, kind="retreat", allow_target_contact=True, allowance=FINGERS)
+        yield from motion.line(T, kind="retreat", allow_target_contact=True, allowance=FINGERS,
+                               release_contacts=True)
     except GraspPipelineError as exc:
         log.warning("retreat not plannable (%s); escaping straight up", exc)
         motion.sync()
@@ -141,7 +142,7 @@ def recover(action):
     yield from _retreat(action)
     if action.home_q is not None:
         try:
-            yield from motion.to_joints(action.home_q, kind="home")
+            yield from motion.to_joints(action.home_q, kind="home", release_contacts=True)
         except GraspPipelineError as exc:
             log.warning("return home failed: %s", exc)
             motion.sync()

@@ -6,6 +6,19 @@ forwards the core's events to :mod:`logging` and returns a :class:`FrameResult`
 that gives numpy views of the object / environment points without copying the
 labels. The locked plane and the band are latched: readable at any time, also by
 a consumer that starts late.
+
+Threads: one session may be shared by several threads. Every call into the core object
+(``process``, ``reset``, and the reads behind ``plane``, ``plane_locked``, ``tracks()``,
+``tracker``) is serialised by a mutex in the C++ binding; the GIL is released while a
+call waits for that mutex and while a frame is processed, so other Python threads keep
+running and no deadlock can occur. Frames from concurrent ``process`` calls are applied
+one after the other, in the order the mutex is taken; ``time_s`` must still not go
+backwards in that order (``ValueError`` otherwise), so a producer that wants a defined
+frame order must keep one thread per camera.
+
+Points with a NaN/Inf or a coordinate beyond ``max_abs_coordinate_m`` (scene filter
+config) are dropped and labelled invalid; the frame's ``num_invalid`` counts both and
+``num_out_of_range`` the latter.
 """
 
 from __future__ import annotations
@@ -70,14 +83,22 @@ class FrameResult:
 
 
 class PerceptionSession:
-    """Scene filter + estimates + tracker for one camera session."""
+    """Scene filter + estimates + tracker for one camera session.
+
+    Thread-safe: calls from several threads are serialised (see the module docstring).
+    """
 
     def __init__(self, filter_config: SceneFilterConfig | None = None,
                  obb_config: ObbConfig | None = None) -> None:
         self.filter_config = filter_config or SceneFilterConfig()
         self.obb_config = obb_config or ObbConfig()
         self._core = _core.Perception(self.filter_config.to_core(), self.obb_config.to_core())
-        self.frames = 0
+
+    @property
+    def frames(self) -> int:
+        """Frames processed since the start or the last ``reset()`` (the core's count, so
+        it is exact also when several threads process frames)."""
+        return self._core.scene_filter.frame_index
 
     # ---- latched session constants -------------------------------------------------
     @property
@@ -105,11 +126,12 @@ class PerceptionSession:
     def process(self, points: np.ndarray, camera_position, time_s: float) -> FrameResult:
         """One frame: (N, 3) float32/float64 world points, camera position at capture, time."""
         raw = self._core.process(points, camera_position, float(time_s))
-        self.frames += 1
         for ev in raw.filter.events:
             log.log(_LEVELS.get(ev.level, logging.INFO), "%s", ev.message)
         if raw.filter.num_invalid:
-            log.debug("dropped %d NaN/Inf rows", raw.filter.num_invalid)
+            log.debug("dropped %d invalid rows (%d NaN/Inf, %d beyond +-%g m)",
+                      raw.filter.num_invalid, raw.filter.num_invalid - raw.filter.num_out_of_range,
+                      raw.filter.num_out_of_range, raw.filter.max_abs_coordinate_m)
         for label, why in zip(raw.failed_labels, raw.failures):
             log.debug("cluster %d: no estimate (%s)", label, why)
         if raw.tids:
@@ -123,5 +145,5 @@ class PerceptionSession:
                          for tid, v in zip(frame.raw.tids, frame.raw.views))
 
     def reset(self) -> None:
+        """Forget the plane lock, the tracks and the frame count (a new session)."""
         self._core.reset()
-        self.frames = 0

@@ -7,7 +7,9 @@ Backends (chosen once, logged at INFO):
   by MuJoCo into metres along the optical axis.
 * ``raycast`` — :func:`mujoco.mj_multiRay`, one ray per pixel through the pixel centre, for
   machines without any GL; it produces the same frame format (and, up to the depth buffer's
-  precision, the same depths).
+  precision, the same depths). See :meth:`DepthCamera._clean_depth_raycast` for how it is made
+  fast (per-tile frustum culling into small private ray-cast models, 1-2 threads) without
+  changing a single depth value.
 
 Per frame, on the *clean* depth: pixels nearer than ``min_range_m`` or farther than
 ``max_range_m`` (including "no surface"), and pixels whose surface is seen at more than
@@ -24,17 +26,22 @@ pixels are kept), the surface normal is ``(-g_u, -g_v, g_u x + g_v y + z)`` and
 
 from __future__ import annotations
 
+import itertools
 import logging
 import math
 import os
+import threading
+from collections import OrderedDict
+from concurrent.futures import ThreadPoolExecutor
 
 import mujoco
 import numpy as np
 
 from .config import CameraConfig
-from .exceptions import RenderError
-from .frame import Frame
-from .robot_model import CAMERA_NAME
+from .exceptions import RenderError, RenderUnavailable
+from ..robot.frame import Frame
+from ..robot.description import CAMERA_NAME
+from .gl_backend import gl_in_effect, new_renderer
 
 log = logging.getLogger(__name__)
 
@@ -42,7 +49,72 @@ log = logging.getLogger(__name__)
 MJCAM_R_OPTICAL = np.diag([1.0, -1.0, -1.0])
 #: Geom groups a depth frame sees (MuJoCo's renderer shows groups 0-2 by default).
 VISIBLE_GEOM_GROUPS = np.array([1, 1, 1, 0, 0, 0], dtype=np.uint8)
-_GL_OFF_VALUES = ("disable", "disabled", "off", "false", "0")
+
+#: Ray-cast threads never exceed this by default (the caller's thread counts as one).
+RAYCAST_MAX_THREADS = 2
+#: Ray-cast tile size (rows, columns) [px]; each tile is culled against its own frustum.
+RAYCAST_TILE_PX = (60, 160)
+#: Geom types the culled ray cast handles (pure primitives: ``mju_rayGeom``); a model with any
+#: other visible geom (mesh, hfield, SDF) or a flex is ray-cast the plain way.
+_PRIMITIVE_GEOMS = frozenset(int(t) for t in (
+    mujoco.mjtGeom.mjGEOM_PLANE, mujoco.mjtGeom.mjGEOM_SPHERE, mujoco.mjtGeom.mjGEOM_CAPSULE,
+    mujoco.mjtGeom.mjGEOM_ELLIPSOID, mujoco.mjtGeom.mjGEOM_CYLINDER, mujoco.mjtGeom.mjGEOM_BOX))
+#: Frustum-culling slack: angular [rad] (float32 ray directions are off by ~1e-7) and linear [m].
+_CULL_MARGIN_RAD = 1e-4
+_CULL_MARGIN_M = 1e-6
+#: Private ray-cast models kept (one per distinct set of geoms a tile can see).
+_RAY_SCENE_CACHE = 256
+#: Unit cube corners, for the geoms' local bounding boxes.
+_BOX_CORNERS = np.array([[sx, sy, sz] for sx in (-1.0, 1.0) for sy in (-1.0, 1.0)
+                         for sz in (-1.0, 1.0)])
+
+
+def default_raycast_threads() -> int:
+    """Threads of the ray-cast backend: the usable cores, at most :data:`RAYCAST_MAX_THREADS`,
+    and at most ``OMP_NUM_THREADS`` when that is set (the benchmarks' one-thread workers)."""
+    try:
+        n = len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):
+        n = os.cpu_count() or 1
+    omp = os.environ.get("OMP_NUM_THREADS", "").strip()
+    if omp.isdigit() and int(omp) > 0:
+        n = min(n, int(omp))
+    return max(1, min(RAYCAST_MAX_THREADS, n))
+
+
+class _RayScene:
+    """A private model holding copies of some geoms of the scene model, all in its world body,
+    for :func:`mujoco.mj_multiRay` against just those geoms.
+
+    Per ray, ``mj_multiRay`` visits every body of the model (a bounding-sphere test each) and
+    every geom (the elimination flag and a bounding-angle test) before any real intersection;
+    in the scene model that is ~16 bodies and 48 geoms for every pixel, most of which no pixel
+    can see. Here there is one body whose bounding volume is made infinite (so its test always
+    passes); each geom keeps the size, type, local bounding box and bounding radius of the
+    original and is given its current world pose, so ``mju_rayGeom`` and the bounding-angle
+    test get bit-identical inputs and return bit-identical distances.
+    """
+
+    def __init__(self, model: mujoco.MjModel, geoms: np.ndarray, n_workers: int):
+        self.geoms = geoms
+        spec = mujoco.MjSpec()
+        spec.memory = 65536 + 128 * len(geoms)  # mj_multiRay's stack needs ~40 bytes a geom
+        for g in geoms:
+            spec.worldbody.add_geom(type=mujoco.mjtGeom(int(model.geom_type[g])),
+                                    size=np.array(model.geom_size[g], dtype=float))
+        self.model = spec.compile()
+        self.sync(model)
+        root = self.model.body_bvhadr[0]
+        if root >= 0:  # compiled for the geoms at the origin: make it cover any pose
+            self.model.bvh_aabb[root] = [0.0, 0.0, 0.0, 1e10, 1e10, 1e10]
+        self.datas = [mujoco.MjData(self.model) for _ in range(n_workers)]
+
+    def sync(self, model: mujoco.MjModel) -> None:
+        """Take the original geoms' (possibly edited) sizes and bounds."""
+        g = self.geoms
+        self.model.geom_size[:] = model.geom_size[g]
+        self.model.geom_aabb[:] = model.geom_aabb[g]
+        self.model.geom_rbound[:] = model.geom_rbound[g]
 
 
 def intrinsics(width_px: int, height_px: int, vfov_deg: float) -> np.ndarray:
@@ -55,21 +127,26 @@ def intrinsics(width_px: int, height_px: int, vfov_deg: float) -> np.ndarray:
 
 
 class DepthCamera:
-    """Renders depth frames of the camera :data:`~.robot_model.CAMERA_NAME` of a model.
+    """Renders depth frames of the camera :data:`~grasp_pipeline.robot.description.CAMERA_NAME` (or ``camera_name``) of a model.
 
     Args:
         model, data: the simulation the camera lives in (``data`` is read, never stepped).
         config: image size, field of view, valid range, noise, backend.
 
     The vertical field of view in ``config`` is written into ``model.cam_fovy`` so the model
-    and the intrinsics agree. Call :meth:`close` (or use ``with``) to free the GL context.
+    and the intrinsics agree. Call :meth:`close` (or use ``with``) to free the GL context and
+    the ray-cast thread pool. ``raycast_threads``: threads of the ray-cast backend, the
+    caller's included (default :func:`default_raycast_threads`, at most 2). ``camera_name``:
+    the MJCF camera (default: the eye-in-hand camera).
     """
 
-    def __init__(self, model: mujoco.MjModel, data: mujoco.MjData, config: CameraConfig):
+    def __init__(self, model: mujoco.MjModel, data: mujoco.MjData, config: CameraConfig,
+                 raycast_threads: int | None = None, camera_name: str = CAMERA_NAME):
         self.model = model
         self.data = data
         self.config = config
-        self.cam_id = model.camera(CAMERA_NAME).id
+        self.camera_name = camera_name
+        self.cam_id = model.camera(camera_name).id
         model.cam_fovy[self.cam_id] = config.vfov_deg
         self.K = intrinsics(config.width_px, config.height_px, config.vfov_deg)
         h, w = config.height_px, config.width_px
@@ -84,47 +161,66 @@ class DepthCamera:
         self._rng = np.random.default_rng(config.seed)
         self._renderer: mujoco.Renderer | None = None
         self._frame_index = 0
+        self._pool: ThreadPoolExecutor | None = None
+        self._ray_scenes: OrderedDict[tuple, _RayScene] = OrderedDict()
+        self._raycast_threads = 1
+        self.raycast_threads = (default_raycast_threads() if raycast_threads is None
+                                else raycast_threads)
+        th, tw = RAYCAST_TILE_PX
+        self._tiles = [(r, min(r + th, h), c, min(c + tw, w))
+                       for r in range(0, h, th) for c in range(0, w, tw)]
         self.backend = self._start_backend()
         log.info("depth camera backend: %s (%dx%d px, vfov %.1f deg, %.0f Hz)",
                  self.backend, w, h, config.vfov_deg, config.rate_hz)
 
     # ------------------------------------------------------------------ backends
     def _start_backend(self) -> str:
+        """``"raycast"`` or the GL backend in effect; GL only through
+        :func:`~.gl_backend.new_renderer`, which refuses where no context can exist."""
         cfg = self.config
-        gl_name = os.environ.get("MUJOCO_GL", "").strip().lower()
         if cfg.backend == "raycast":
             return "raycast"
-        if gl_name in _GL_OFF_VALUES:
-            if cfg.backend == "gl":
-                raise RenderError(f"camera backend 'gl' requested but MUJOCO_GL={gl_name!r}")
-            log.warning("MUJOCO_GL=%s: no GL rendering, depth frames are ray-cast", gl_name)
-            return "raycast"
         try:
-            vis = self.model.vis.global_
-            vis.offwidth = max(int(vis.offwidth), cfg.width_px)
-            vis.offheight = max(int(vis.offheight), cfg.height_px)
-            self._renderer = mujoco.Renderer(self.model, cfg.height_px, cfg.width_px)
+            self._renderer = new_renderer(self.model, cfg.height_px, cfg.width_px)
             self._renderer.enable_depth_rendering()
             # Depth needs none of these; they cost 2-3x the render time in software GL.
             for flag in (mujoco.mjtRndFlag.mjRND_SHADOW, mujoco.mjtRndFlag.mjRND_REFLECTION,
                          mujoco.mjtRndFlag.mjRND_SKYBOX):
                 self._renderer.scene.flags[flag] = 0
-        except Exception as exc:  # any GL failure: missing library, no device, ...
+        except RenderUnavailable as exc:
             self._renderer = None
             if cfg.backend == "gl":
-                raise RenderError(
-                    f"GL depth rendering failed with MUJOCO_GL={gl_name or '(unset)'}: {exc}. "
-                    "Install libegl1/libosmesa6 or use camera backend 'raycast'.") from exc
-            log.warning("GL rendering unavailable (MUJOCO_GL=%s: %s); depth frames are ray-cast",
-                        gl_name or "(unset)", exc)
+                raise RenderError(f"camera backend 'gl' requested, but {exc}. Install "
+                                  "libegl1/libosmesa6 or use camera backend 'raycast'.") from exc
+            log.warning("%s; depth frames are ray-cast", exc)
             return "raycast"
-        return gl_name or "gl"
+        return gl_in_effect() or "gl"
 
     def close(self) -> None:
-        """Free the GL context (needed with OSMesa to avoid an error message at exit)."""
+        """Free the GL context (needed with OSMesa to avoid an error message at exit) and stop
+        the ray-cast threads."""
         if self._renderer is not None:
             self._renderer.close()
             self._renderer = None
+        self._stop_raycast_workers()
+
+    @property
+    def raycast_threads(self) -> int:
+        """Threads of the ray-cast backend, the caller's included."""
+        return self._raycast_threads
+
+    @raycast_threads.setter
+    def raycast_threads(self, n: int) -> None:
+        n = max(1, int(n))
+        if n != self._raycast_threads:  # pool size and per-thread MjData change
+            self._stop_raycast_workers()
+        self._raycast_threads = n
+
+    def _stop_raycast_workers(self) -> None:
+        if self._pool is not None:
+            self._pool.shutdown(wait=True)
+            self._pool = None
+        self._ray_scenes.clear()
 
     def __enter__(self) -> "DepthCamera":
         return self
@@ -146,6 +242,151 @@ class DepthCamera:
         return np.asarray(self._renderer.render(), dtype=np.float32)
 
     def _clean_depth_raycast(self, T_world_camera: np.ndarray) -> np.ndarray:
+        """Depth along the optical axis per pixel by ray casting, exactly as one
+        ``mj_multiRay`` over all visible geoms of the scene model would give it
+        (:meth:`_clean_depth_raycast_plain`), but 3-4x faster on one thread:
+
+        * the image is cut into tiles of :data:`RAYCAST_TILE_PX`; a geom is culled from a
+          tile when its oriented local bounding box lies entirely outside one plane of the
+          tile's frustum (the pyramid of that tile's pixel-centre rays, widened by
+          :data:`_CULL_MARGIN_RAD`) or behind the camera — no ray of the tile can reach it;
+          planes are never culled;
+        * each tile is cast against a :class:`_RayScene` holding only its geoms, so a ray
+          pays for neither the scene model's bodies nor the culled geoms (removing a geom no
+          ray can hit changes no distance: each geom's distance is computed independently and
+          the nearest is kept);
+        * tiles are shared out to :attr:`raycast_threads` threads (``mj_multiRay`` releases
+          the GIL; each thread has its own ``MjData`` since ``mj_multiRay`` allocates on its
+          stack).
+
+        Each ray's direction, the cutoff and the final division are computed with the same
+        float operations as in the plain ray cast, so the depths are bit-identical. The scene
+        model and its data are only read. Models with a visible mesh / hfield / SDF geom or a
+        flex take the plain path.
+        """
+        cand = self._raycast_candidates()
+        if cand is None:
+            return self._clean_depth_raycast_plain(T_world_camera)
+        h, w = self.config.height_px, self.config.width_px
+        z = np.empty((h, w), dtype=np.float32)
+        scenes = self._tile_scenes(self._tile_geoms(T_world_camera, cand))
+        pnt = T_world_camera[:3, 3].copy()
+        R32 = T_world_camera[:3, :3].astype(np.float32)
+        cutoff = float(self.config.max_range_m) * float(self._ray_norm.max())
+        n_tiles = len(self._tiles)
+        next_tile = itertools.count().__next__
+        lock = threading.Lock()
+
+        def work(worker: int) -> None:  # takes tiles until none is left
+            while True:
+                with lock:
+                    t = next_tile()
+                if t >= n_tiles:
+                    return
+                self._cast_tile(worker, self._tiles[t], scenes[t], R32, pnt, cutoff, z)
+
+        n_workers = min(self.raycast_threads, n_tiles)
+        if n_workers <= 1:
+            work(0)
+            return z
+        if self._pool is None:
+            self._pool = ThreadPoolExecutor(max_workers=self.raycast_threads - 1,
+                                            thread_name_prefix="depth-raycast")
+        futures = [self._pool.submit(work, i) for i in range(1, n_workers)]
+        try:
+            work(0)
+        finally:
+            for f in futures:
+                f.result()
+        return z
+
+    def _cast_tile(self, worker: int, tile: tuple[int, int, int, int],
+                   scene: "_RayScene | None", R32: np.ndarray, pnt: np.ndarray, cutoff: float,
+                   z: np.ndarray) -> None:
+        r0, r1, c0, c1 = tile
+        norm = self._ray_norm[r0:r1, c0:c1]
+        if scene is None:  # nothing the tile can see
+            z[r0:r1, c0:c1] = np.inf
+            return
+        n = norm.size
+        x, y = self._x[:, c0:c1], self._y[r0:r1]
+        vec = np.empty(norm.shape + (3,), dtype=np.float64)
+        for i in range(3):  # the per-element operations of _world_directions, then unit rays
+            vec[..., i] = (R32[i, 0] * x + R32[i, 1] * y + R32[i, 2]) / norm
+        data = scene.datas[worker]
+        data.geom_xpos[:] = self.data.geom_xpos[scene.geoms]
+        data.geom_xmat[:] = self.data.geom_xmat[scene.geoms]
+        geomid = np.empty(n, dtype=np.int32)
+        dist = np.empty(n, dtype=np.float64)
+        mujoco.mj_multiRay(scene.model, data, pnt, vec.reshape(-1), None, 1, -1,
+                           geomid, dist, None, n, cutoff)
+        dist[geomid < 0] = np.inf
+        z[r0:r1, c0:c1] = dist.reshape(norm.shape) / norm
+
+    def _raycast_candidates(self) -> np.ndarray | None:
+        """Geoms a ray can hit (visible group, not transparent), or None when the model needs
+        the plain ray cast (a candidate that is not a primitive, or a flex)."""
+        m = self.model
+        if m.nflex > 0:
+            return None
+        vis = VISIBLE_GEOM_GROUPS[np.clip(m.geom_group, 0, len(VISIBLE_GEOM_GROUPS) - 1)] != 0
+        alpha = m.geom_rgba[:, 3].copy()
+        if m.nmat > 0:
+            matid = m.geom_matid
+            alpha = np.where(matid >= 0, m.mat_rgba[np.maximum(matid, 0), 3], alpha)
+        cand = np.flatnonzero(vis & (alpha != 0))
+        if not all(int(t) in _PRIMITIVE_GEOMS for t in m.geom_type[cand]):
+            return None
+        return cand
+
+    def _tile_geoms(self, T_world_camera: np.ndarray, cand: np.ndarray) -> list[np.ndarray]:
+        """Per tile of :attr:`_tiles`, the candidate geoms not provably outside its frustum."""
+        m, d = self.model, self.data
+        if len(cand) == 0:
+            return [cand] * len(self._tiles)
+        aabb = m.geom_aabb[cand]
+        local = aabb[:, None, :3] + _BOX_CORNERS[None] * aabb[:, None, 3:]
+        xmat = d.geom_xmat[cand].reshape(-1, 3, 3)
+        world = np.einsum("gij,gkj->gki", xmat, local) + d.geom_xpos[cand][:, None, :]
+        cam = (world - T_world_camera[:3, 3]) @ T_world_camera[:3, :3]  # (geom, corner, xyz)
+        X, Y, Z = (cam[..., i, None] for i in range(3))  # (geom, corner, 1)
+        eps, lin = _CULL_MARGIN_RAD, _CULL_MARGIN_M
+        tiles = np.array(self._tiles)
+        x_lo = self._x[0, tiles[:, 2]].astype(float) - eps
+        x_hi = self._x[0, tiles[:, 3] - 1].astype(float) + eps
+        y_lo = self._y[tiles[:, 0], 0].astype(float) - eps
+        y_hi = self._y[tiles[:, 1] - 1, 0].astype(float) + eps
+        out = ((Z < -lin).all(axis=1)  # (geom, tile)
+               | (X - x_hi * Z > lin).all(axis=1) | (x_lo * Z - X > lin).all(axis=1)
+               | (Y - y_hi * Z > lin).all(axis=1) | (y_lo * Z - Y > lin).all(axis=1))
+        out &= (m.geom_type[cand] != mujoco.mjtGeom.mjGEOM_PLANE)[:, None]
+        return [cand[~out[:, t]] for t in range(len(self._tiles))]
+
+    def _tile_scenes(self, tile_geoms: list[np.ndarray]) -> list["_RayScene | None"]:
+        """The (cached) private ray-cast model of each tile's geoms, synced to the scene."""
+        scenes: list[_RayScene | None] = []
+        synced: set[int] = set()
+        for geoms in tile_geoms:
+            if len(geoms) == 0:
+                scenes.append(None)
+                continue
+            key = (geoms.tobytes(), self.model.geom_type[geoms].tobytes())
+            scene = self._ray_scenes.get(key)
+            if scene is None:
+                scene = _RayScene(self.model, geoms, self.raycast_threads)
+                self._ray_scenes[key] = scene
+                if len(self._ray_scenes) > _RAY_SCENE_CACHE:
+                    self._ray_scenes.popitem(last=False)
+            else:
+                self._ray_scenes.move_to_end(key)
+                if id(scene) not in synced:
+                    scene.sync(self.model)
+            synced.add(id(scene))
+            scenes.append(scene)
+        return scenes
+
+    def _clean_depth_raycast_plain(self, T_world_camera: np.ndarray) -> np.ndarray:
+        """One ``mj_multiRay`` over all visible geoms of the scene model, on this thread."""
         h, w = self.config.height_px, self.config.width_px
         n = h * w
         vec = np.empty((h, w, 3), dtype=np.float64)

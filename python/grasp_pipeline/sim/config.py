@@ -39,8 +39,11 @@ class CameraConfig:
     seed: int = 0
 
     def validate(self) -> None:
-        if self.width_px < 8 or self.height_px < 8:
-            raise ConfigError(f"camera image must be at least 8x8 px, got {self.width_px}x{self.height_px}")
+        if not (8 <= self.width_px <= MAX_IMAGE_PX and 8 <= self.height_px <= MAX_IMAGE_PX):
+            raise ConfigError(f"camera image must be 8..{MAX_IMAGE_PX} px on each side, got "
+                              f"{self.width_px}x{self.height_px}")
+        if not 0 <= self.seed < 2**63:
+            raise ConfigError(f"camera.seed must be a whole number >= 0, got {self.seed}")
         if not 1.0 < self.vfov_deg < 170.0:
             raise ConfigError(f"vfov_deg must be in (1, 170), got {self.vfov_deg}")
         if self.rate_hz <= 0:
@@ -59,6 +62,10 @@ class CameraConfig:
     def period_s(self) -> float:
         """Time between frames [s]."""
         return 1.0 / self.rate_hz
+
+
+#: Largest camera image side [px] (a 4096 x 4096 frame is 16.8 M points).
+MAX_IMAGE_PX = 4096
 
 
 @dataclass(frozen=True)

@@ -29,6 +29,9 @@ class ObjectSpec:
         position_m: centre of the object in world [m].
         yaw_rad: rotation about world z.
         rgba: colour.
+        camera_visible: False makes the object invisible to the cameras (like glass) but
+            still solid: a fault-injection obstacle perception cannot know about.
+        fixed: True welds the object to the world (no free joint), e.g. such an obstacle.
     """
 
     name: str
@@ -37,6 +40,8 @@ class ObjectSpec:
     position_m: tuple[float, float, float]
     yaw_rad: float = 0.0
     rgba: tuple[float, float, float, float] = (0.6, 0.6, 0.6, 1.0)
+    camera_visible: bool = True
+    fixed: bool = False
 
     def __post_init__(self) -> None:
         if self.kind not in OBJECT_KINDS:

@@ -58,6 +58,8 @@ log = logging.getLogger(__name__)
 SCENE_BASE_XML = "scene_base.xml"
 #: Prefix of object body and geom names in the model.
 OBJECT_PREFIX = "obj_"
+#: Geom group the cameras do not render (they see groups 0-2): objects made invisible.
+HIDDEN_GEOM_GROUP = 3
 #: Robot geoms whose name contains this are fingers (pads and finger bodies).
 FINGER_GEOM_MARK = "finger"
 #: Objects: torsional/rolling friction coefficients and contact dimension (4: torsional
@@ -87,13 +89,15 @@ def build_scene_model(scene: SceneSpec, config: SimConfig) -> mujoco.MjModel:
         body = spec.worldbody.add_body(name=object_body_name(obj), pos=list(obj.position_m),
                                        quat=[math.cos(obj.yaw_rad / 2), 0.0, 0.0,
                                              math.sin(obj.yaw_rad / 2)])
-        body.add_freejoint(name=object_body_name(obj) + "_free")
+        if not obj.fixed:
+            body.add_freejoint(name=object_body_name(obj) + "_free")
         sx, sy, sz = obj.size_m
         if obj.kind == "cylinder":
             gtype, size = mujoco.mjtGeom.mjGEOM_CYLINDER, [sx / 2, sz / 2, 0.0]
         else:
             gtype, size = mujoco.mjtGeom.mjGEOM_BOX, [sx / 2, sy / 2, sz / 2]
         body.add_geom(name=object_body_name(obj), type=gtype, size=size, rgba=list(obj.rgba),
+                      group=0 if obj.camera_visible else HIDDEN_GEOM_GROUP,
                       density=config.object_density_kg_m3, condim=OBJECT_CONDIM,
                       solref=list(OBJECT_SOLREF), solimp=list(OBJECT_SOLIMP),
                       friction=[config.object_friction, OBJECT_FRICTION_TORSION,

@@ -215,3 +215,26 @@ def test_bad_log_level_is_refused():
 
     with pytest.raises(SystemExit):
         _split_log_level(["--log-level", "LOUD", "run"])
+
+
+def test_perceive_binary_pcd_with_rows_at_float_max(scene, tmp_path):
+    """Regression: >= 16 identical rows at ~3.4e38 in a binary PCD aborted `perceive` inside
+    FLANN (kdtree_single_index.h assertion). They are dropped like NaN rows now (scene filter
+    max_abs_coordinate_m). Run in a child interpreter: before the fix it killed the process."""
+    import os
+    import subprocess
+    import sys
+
+    pts = np.vstack([scene["pts_world"], np.full((40, 3), np.finfo(np.float32).max, np.float32)])
+    pcd, js = tmp_path / "absurd.pcd", tmp_path / "absurd.json"
+    save_pcd(pcd, pts, encoding="binary")
+    eye = ",".join(f"{v:g}" for v in np.eye(4).ravel())
+    code = ("import sys; from grasp_pipeline.cli import main; "
+            f"sys.exit(main(['perceive', {str(pcd)!r}, '--T-world-camera', {eye!r}, '--json', {str(js)!r}]))")
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in sys.path if p))
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=180,
+                         env=env)
+    assert res.returncode == 0, f"rc {res.returncode}\n{res.stderr[-2000:]}"
+    rep = json.loads(js.read_text())
+    assert len(rep["objects"]) == 3
+    assert rep["plane"]["height_m"] == pytest.approx(0.2, abs=0.001)

@@ -137,13 +137,14 @@ class FakeMotion:
         self.robot.tcp = np.asarray(traj.T, float).copy()
         return None
 
-    def line(self, T, frame="tcp", kind="line", allow_target_contact=False, allowance=ContactAllowance.NONE):
+    def line(self, T, frame="tcp", kind="line", allow_target_contact=False, allowance=ContactAllowance.NONE,
+             release_contacts=False):
         return (yield from self.execute(kind, FakeTrajectory(np.asarray(T)), allowance))
 
     def to_pose(self, T, frame="tcp", kind="pose", allowance=ContactAllowance.NONE):
         return (yield from self.execute(kind, FakeTrajectory(np.asarray(T)), allowance))
 
-    def to_joints(self, q, kind="joints", allowance=ContactAllowance.NONE):
+    def to_joints(self, q, kind="joints", allowance=ContactAllowance.NONE, release_contacts=False):
         return (yield from self.execute(kind, FakeTrajectory(self.robot.tcp), allowance))
 
     def escape_up(self, distance_m, kind="escape"):

@@ -1,0 +1,6 @@
+"""The test session is a composition root like a console command: it chooses the headless GL
+backend before anything imports MuJoCo (``MUJOCO_GL`` from the environment is respected)."""
+
+from grasp_pipeline.sim.gl_backend import configure_gl
+
+configure_gl()
