@@ -209,6 +209,7 @@ def _report(cloud, T, frame_source, up, frame, plane, objects, settings, timings
     return {
         "input": {"path": str(cloud.path), "format": cloud.source_format, "points": len(cloud.points),
                   "invalid_points": cloud.num_invalid,
+                  "out_of_range_points": int(getattr(frame.raw.filter, "num_out_of_range", 0)),
                   "organized": [cloud.height, cloud.width] if cloud.organized else None},
         "world_frame": {"source": frame_source, "T_world_camera": T.tolist(),
                         "up_in_camera": None if up is None else _vec(up)},
