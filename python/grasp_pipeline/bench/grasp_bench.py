@@ -38,6 +38,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Iterable, Optional
 
+from ..app.run_command import sigterm_as_interrupt
 from ..report.serialize import check_writable, write_json
 
 log = logging.getLogger(__name__)
@@ -412,7 +413,7 @@ class _SceneScheduler:
             err = (f"WorkerDied: the scene process exited with code {proc.exitcode} "
                    f"without a result")
             log.error("scene %d (seed %d): %s", index, seed, err)
-            rec = _failed_record(index, seed, err, time.perf_counter() - t0)
+            rec = _failed_record(index, seed, err, time.perf_counter() - t0, self.overrides)
         return rec
 
     def kill_overdue(self) -> None:
@@ -423,7 +424,7 @@ class _SceneScheduler:
                 proc.kill()
                 err = f"SceneTimeout: the scene took longer than {self.scene_timeout_s:.0f} s wall time"
                 log.error("scene %d (seed %d): %s", index, seed, err)
-                self.finish(sentinel, _failed_record(index, seed, err, now - t0))
+                self.finish(sentinel, _failed_record(index, seed, err, now - t0, self.overrides))
 
     def kill_all(self) -> None:
         """Kill whatever is still running (on the way out, also after an exception)."""
@@ -434,8 +435,10 @@ class _SceneScheduler:
 
 
 def _run_scenes(tasks: list[tuple[int, int, str]], workers: int, scene_timeout_s: float,
-                progress: bool, overrides: tuple = (None, ())) -> list[dict]:
-    """Run ``(index, seed, out_dir)`` tasks in spawned processes, ``workers`` at a time."""
+                progress: bool, overrides: tuple = (None, ())) -> tuple[list[dict], bool]:
+    """Run ``(index, seed, out_dir)`` tasks in spawned processes, ``workers`` at a time.
+    Returns (records, interrupted): on Ctrl-C / SIGTERM the running scenes are stopped and
+    the records finished so far are returned."""
     import multiprocessing as mp
 
     from tqdm import tqdm
@@ -445,23 +448,29 @@ def _run_scenes(tasks: list[tuple[int, int, str]], workers: int, scene_timeout_s
     bar = tqdm(total=len(tasks), unit="scene", desc="bench grasp", disable=not progress,
                file=sys.stderr, dynamic_ncols=True)
     sched = _SceneScheduler(ctx, scene_timeout_s, overrides, bar)
+    interrupted = False
     try:
         while pending or sched.running:
             while pending and len(sched.running) < workers:
                 sched.start(pending.pop(0))
             sched.collect_ready()
             sched.kill_overdue()
+    except KeyboardInterrupt:
+        interrupted = True
+        log.error("interrupted: stopping the running scenes; writing the %d finished ones",
+                  len(sched.results))
     finally:
         sched.kill_all()
         bar.close()
     results = sched.results
     results.sort(key=lambda r: r["index"])
-    return results
+    return results, interrupted
 
 
-def _failed_record(index: int, seed: int, error: str, wall_s: float) -> dict:
+def _failed_record(index: int, seed: int, error: str, wall_s: float,
+                   overrides: tuple = (None, ())) -> dict:
     try:
-        objects = _spec_objects(seed)
+        objects = _spec_objects(seed, overrides)
     except Exception:  # the scene itself cannot be generated
         objects = []
     return scene_record(index, seed, objects, None, error=error, wall_s=wall_s)
@@ -698,12 +707,15 @@ def run_grasp_benchmark(scenes: int, seed: int = 0, workers: int = 1, json_path:
     if workers_used > (os.cpu_count() or 1):
         log.warning("%d workers on %s cores: scenes will compete for CPU", workers_used, os.cpu_count())
     t0 = time.perf_counter()
-    records = _run_scenes(tasks, workers_used, scene_timeout_s, progress, overrides)
+    with sigterm_as_interrupt():
+        records, interrupted = _run_scenes(tasks, workers_used, scene_timeout_s, progress, overrides)
     wall = time.perf_counter() - t0
     env = _worker_env()
     result = aggregate(records, seed, workers_used, wall,
                        extra={"workers_requested": int(workers), "cpu_count": os.cpu_count(),
-                              "mujoco_gl": env["MUJOCO_GL"]})
+                              "mujoco_gl": env["MUJOCO_GL"],
+                              "status": "interrupted" if interrupted else "complete",
+                              "scenes_finished": len(records)})
 
     from .grasp_plots import write_plots, write_summary
 
@@ -713,6 +725,9 @@ def run_grasp_benchmark(scenes: int, seed: int = 0, workers: int = 1, json_path:
     result["scene_rows"] = result.pop("scene_rows")
     if json_path is not None:
         write_json(json_path, result)
+    if interrupted:
+        raise KeyboardInterrupt(f"bench grasp interrupted after {len(records)} of {scenes} scenes "
+                                f"(written to {json_path})")
     return result
 
 

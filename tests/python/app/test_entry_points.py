@@ -151,6 +151,8 @@ def test_bench_workers(gl, work):
     (["run", "--set", "grasp.lift_hieght_m=0.1"], "unknown parameter"),
     (["bench", "perception", "--frames", "0", "--json", "x.json"], "whole number >= 1"),
     (["perceive", "missing.pcd", "--up", "0", "0", "1", "--json", "x.json"], "missing.pcd"),
+    (["run", "--config", "."], "is a directory"),
+    (["perceive", "x.npy", "--up", "0", "0", "1", "--json", "."], "is a directory"),
 ])
 def test_bad_input_gives_a_one_line_error(args, words, work):
     res = run_cli(args, "disable", work)

@@ -37,3 +37,22 @@ def test_a_signal_mid_run_leaves_an_interrupted_report(sig, tmp_path):
     assert report["status"] == "interrupted"
     assert report["scan"]["completed"] and len(report["rough"]["tracks"]) == 3
     assert "interrupted" in report["error"]
+
+
+def test_an_interrupted_benchmark_writes_what_it_finished(tmp_path):
+    proc = subprocess.Popen([str(EXE), "bench", "grasp", "--scenes", "3", "--seed", "5", "--workers", "1",
+                             "--json", "g.json", "--out", "bg", "--no-progress", "--set",
+                             "sim.object_count=[1,1]"],
+                            cwd=tmp_path, env=clean_env(None, tmp_path), stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, stdin=subprocess.DEVNULL)
+    seen, t_end = "", time.monotonic() + 600
+    while seen.count("grasp stage PRE_GRASP") < 2 and time.monotonic() < t_end:  # in scene 2
+        line = proc.stderr.readline()
+        if not line:
+            break
+        seen += line
+    proc.send_signal(signal.SIGINT)
+    _, rest = proc.communicate(timeout=180)
+    assert proc.returncode == 130, (seen + rest)[-3000:]
+    out = json.loads((tmp_path / "g.json").read_text())
+    assert out["status"] == "interrupted" and 1 <= out["scenes_finished"] < 3
