@@ -45,9 +45,14 @@ def load_error(path) -> str:
     ("0.1 0.2 0.3\n1 2 3\n4 5 6\n7 8 9\n", 4, ["more data lines than POINTS = 3"]),
 ])
 def test_pcd_ascii_errors_name_the_line_and_the_field(tmp_path, body, line, words):
-    path = write(tmp_path, "bad.pcd", PCD_HEADER.format(n=3) + body)
+    assert_error_names(write(tmp_path, "bad.pcd", PCD_HEADER.format(n=3) + body),
+                       FIRST_DATA_LINE + line - 1, words)
+
+
+def assert_error_names(path, file_line: int, words) -> None:
+    """Loading ``path`` fails with a message naming the file, the line and ``words``."""
     msg = load_error(path)
-    assert str(path) in msg and f"line {FIRST_DATA_LINE + line - 1}" in msg, msg
+    assert str(path) in msg and f"line {file_line}" in msg, msg
     for w in words:
         assert w in msg, msg
 
@@ -91,11 +96,8 @@ def test_saved_ascii_pcd_round_trips(tmp_path):
     ("0.1 0.2 0.3\n1 2 3\n4 5 6\n7 8 9\n", 4, ["data after the last element"]),
 ])
 def test_ply_ascii_errors_name_the_line_and_the_property(tmp_path, body, line, words):
-    path = write(tmp_path, "bad.ply", PLY_HEADER.format(n=3) + body)
-    msg = load_error(path)
-    assert str(path) in msg and f"line {FIRST_PLY_LINE + line - 1}" in msg, msg
-    for w in words:
-        assert w in msg, msg
+    assert_error_names(write(tmp_path, "bad.ply", PLY_HEADER.format(n=3) + body),
+                       FIRST_PLY_LINE + line - 1, words)
 
 
 def test_ply_ascii_short_file_lists_and_nan(tmp_path):
