@@ -138,7 +138,7 @@ def _add_pick_options(p: argparse.ArgumentParser, out: str) -> None:
     p.add_argument("--json", type=Path, default=None, help="report path (default OUT/report.json)")
     p.add_argument("--no-video", action="store_true", help="skip the MP4")
     p.add_argument("--no-scan", action="store_true", help="pick from the rough (oblique) view")
-    _add_config_options(p, "scene_filter, obb, camera, sim, motion, scan, grasp",
+    _add_config_options(p, "scene_filter, obb, camera, sim, clutter, motion, scan, grasp",
                         "grasp.lift_height_m=0.12")
 
 
@@ -149,7 +149,12 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
                     "(camera above each object), then pick each selected object (default: all, "
                     "nearest first) and place it in the tray. Writes a report JSON, PNG "
                     "snapshots and an MP4.")
-    p.add_argument("--scene", choices=["reference", "random"], default="reference")
+    p.add_argument("--scene", choices=["reference", "random", "sparse", "packed", "pile"], default="reference",
+                   help="reference (SPEC 8), random/sparse (primitives, 12 cm apart), packed or pile "
+                        "(VGN/GIGA clutter protocols of --objects)")
+    p.add_argument("--objects", default="builtin", metavar="builtin|DIR",
+                   help="object set of packed/pile scenes: the built-in set or a folder of "
+                        "URDF (VGN layout) / OBJ / STL objects")
     p.add_argument("--seed", type=non_negative_int, default=0, help="random scene seed")
     _add_pick_options(p, "out/run")
 

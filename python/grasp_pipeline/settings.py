@@ -31,6 +31,7 @@ SECTIONS: Mapping[str, tuple[str, str]] = MappingProxyType({
     "obb": ("grasp_pipeline.perception.config", "ObbConfig"),
     "camera": ("grasp_pipeline.sim.config", "CameraConfig"),
     "sim": ("grasp_pipeline.sim.config", "SimConfig"),
+    "clutter": ("grasp_pipeline.sim.clutter_config", "ClutterConfig"),
     "motion": ("grasp_pipeline.motion.config", "MotionConfig"),
     "scan": ("grasp_pipeline.orchestration.config", "ScanConfig"),
     "grasp": ("grasp_pipeline.orchestration.config", "GraspConfig"),

@@ -133,10 +133,13 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
                  out_dir: str | Path = "out", json_path: str | Path | None = None,
                  settings: Optional[Settings] = None, video: bool = True, place: bool = True,
                  scan: bool = True, grasp_source: Optional[GraspSource] = None,
-                 prepare: Optional[Callable[[System], None]] = None) -> RunReport:
+                 prepare: Optional[Callable[[System], None]] = None,
+                 objects: str = "builtin") -> RunReport:
     """Run the whole pipeline headless; returns (and writes to ``json_path``) the report.
 
-    ``scene``: ``"reference"``, ``"random"`` (with ``seed``) or a ``SceneSpec``;
+    ``scene``: ``"reference"``, ``"random"``/``"sparse"``, ``"packed"``, ``"pile"`` (with
+    ``seed``; packed/pile of the object set ``objects``: ``"builtin"`` or a path) or a
+    ``SceneSpec``;
     ``grasp_source``: where grasps come from (default: the geometric SPEC 3 grasp);
     ``prepare(system)``: called once the system is built, before anything runs (attach your
     own recorders to ``system.events``, or inject faults in tests)."""
@@ -144,7 +147,7 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
     settings = settings or load_settings(SECTIONS)
     out_dir = Path(out_dir)
     _check_outputs(out_dir, json_path, video)
-    spec = make_scene(scene, seed, settings)
+    spec = make_scene(scene, seed, settings, objects)
     report = RunReport(scene={"name": spec.name, "seed": seed, "objects": len(spec.objects)},
                        settings=settings.as_dict())
     system = build_system(spec, settings)

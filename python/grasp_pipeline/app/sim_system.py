@@ -19,7 +19,7 @@ from ..sim.scenes import random_scene, reference_scene
 from ..sim.world import SimWorld
 
 #: The parameter sets a simulated run uses.
-SECTIONS = ("scene_filter", "obb", "camera", "sim", "motion", "scan", "grasp")
+SECTIONS = ("scene_filter", "obb", "camera", "sim", "clutter", "motion", "scan", "grasp")
 
 
 @dataclass
@@ -40,16 +40,28 @@ class System:
         self.world.close()
 
 
-def make_scene(scene, seed: int, settings: Settings):
-    """The reference scene (SPEC 8), a seeded random scene, or ``scene`` itself when it is a
-    :class:`~grasp_pipeline.sim.scene_spec.SceneSpec`."""
+#: Scene names ``run`` accepts (``sparse`` is another name for ``random``).
+SCENES = ("reference", "random", "sparse", "packed", "pile")
+
+
+def make_scene(scene, seed: int, settings: Settings, objects: str = "builtin"):
+    """The reference scene (SPEC 8), a seeded random (sparse) scene of primitives, a seeded
+    ``packed`` or ``pile`` scene (VGN/GIGA protocols) of the object set ``objects``
+    (``builtin`` or a folder/file, :func:`grasp_pipeline.objects.catalog.object_set`), or
+    ``scene`` itself when it is a :class:`~grasp_pipeline.sim.scene_spec.SceneSpec`."""
     if isinstance(scene, SceneSpec):
         return scene
     if scene == "reference":
         return reference_scene(settings.sim)
-    if scene == "random":
+    if scene in ("random", "sparse"):
         return random_scene(seed, config=settings.sim)
-    raise InputError(f"scene must be 'reference' or 'random', got {scene!r}")
+    if scene in ("packed", "pile"):
+        from ..objects.catalog import object_set
+        from ..sim.clutter_scenes import packed_scene, pile_scene
+
+        build = packed_scene if scene == "packed" else pile_scene
+        return build(object_set(objects), seed, settings.clutter, settings.sim)
+    raise InputError(f"scene must be one of {', '.join(SCENES)}, got {scene!r}")
 
 
 def build_system(spec, settings: Settings, events: EventBus | None = None) -> System:

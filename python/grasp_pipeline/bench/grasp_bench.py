@@ -39,7 +39,7 @@ from pathlib import Path
 from typing import Any, Iterable, Optional
 
 from ..app.run_command import sigterm_as_interrupt
-from ..report.serialize import check_writable, write_json
+from ..report.serialize import check_writable, check_writable_dir, write_json
 
 log = logging.getLogger(__name__)
 
@@ -693,8 +693,7 @@ def run_grasp_benchmark(scenes: int, seed: int = 0, workers: int = 1, json_path:
         raise ValueError(f"scenes must be >= 1, got {scenes}")
     if workers < 1:
         raise ValueError(f"workers must be >= 1, got {workers}")
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    out = check_writable_dir(Path(out_dir), "output folder (--out)")
     tasks = [(i, scene_seed(seed, i), str(out / "scenes" / f"scene_{i:03d}_seed_{scene_seed(seed, i)}"))
              for i in range(scenes)]
     # Longest first (the time of a scene grows with its objects): the last scenes to finish are

@@ -81,7 +81,11 @@ def check_writable_dir(path: str | Path, what: str = "output folder") -> Path:
     p = Path(path)
     if p.exists() and not p.is_dir():
         raise OutputError(f"{what} {p} exists and is not a folder")
-    check_writable(p / ".write_check", what)
+    try:
+        check_writable(p / ".write_check", what)
+    except OutputError as exc:
+        reason = str(exc).rsplit(": ", 1)[-1]
+        raise OutputError(f"cannot write the {what} {p}: {reason}") from None
     return p
 
 

@@ -11,7 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .world import SimWorld, object_body_name
+from .object_geoms import object_body_name
+from .world import SimWorld
 
 
 @dataclass(frozen=True)

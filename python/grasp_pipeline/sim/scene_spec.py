@@ -14,8 +14,11 @@ import numpy as np
 
 from .exceptions import SceneError
 
-ObjectKind = Literal["cube", "cuboid", "cylinder"]
+ObjectKind = Literal["cube", "cuboid", "cylinder", "mesh"]
+#: Primitive kinds of the random (sparse) scenes.
 OBJECT_KINDS: tuple[str, ...] = ("cube", "cuboid", "cylinder")
+#: Every kind a scene may hold (``mesh``: an ObjectModel from grasp_pipeline.objects).
+ALL_KINDS: tuple[str, ...] = OBJECT_KINDS + ("mesh",)
 
 
 @dataclass(frozen=True)
@@ -24,10 +27,15 @@ class ObjectSpec:
 
     Attributes:
         name: unique name (also the MuJoCo body name, prefixed ``obj_``).
-        kind: ``"cube"``, ``"cuboid"`` or ``"cylinder"``.
-        size_m: full extents (x, y, z) in the object frame; cylinders (d, d, h).
-        position_m: centre of the object in world [m].
-        yaw_rad: rotation about world z.
+        kind: ``"cube"``, ``"cuboid"``, ``"cylinder"`` or ``"mesh"``.
+        size_m: full extents (x, y, z) in the object frame; cylinders (d, d, h); a mesh's
+            bounding box.
+        position_m: centre of the object (of its bounding box) in world [m].
+        yaw_rad: rotation about world z (when ``quat_wxyz`` is None).
+        mesh: for ``kind="mesh"``: the :class:`~grasp_pipeline.objects.model.ObjectModel`
+            (already scaled).
+        quat_wxyz: a full 3-D orientation (e.g. a pile's random one) instead of ``yaw_rad``.
+        category: what a user calls it ("mug"); defaults to the kind.
         rgba: colour.
         camera_visible: False makes the object invisible to the cameras (like glass) but
             still solid: a fault-injection obstacle perception cannot know about.
@@ -42,10 +50,15 @@ class ObjectSpec:
     rgba: tuple[float, float, float, float] = (0.6, 0.6, 0.6, 1.0)
     camera_visible: bool = True
     fixed: bool = False
+    mesh: object = None
+    quat_wxyz: tuple[float, float, float, float] | None = None
+    category: str = ""
 
     def __post_init__(self) -> None:
-        if self.kind not in OBJECT_KINDS:
-            raise SceneError(f"object {self.name!r}: kind must be one of {OBJECT_KINDS}, got {self.kind!r}")
+        if self.kind not in ALL_KINDS:
+            raise SceneError(f"object {self.name!r}: kind must be one of {ALL_KINDS}, got {self.kind!r}")
+        if (self.kind == "mesh") != (self.mesh is not None):
+            raise SceneError(f"object {self.name!r}: a mesh object needs its ObjectModel (and only it)")
         if len(self.size_m) != 3 or min(self.size_m) <= 0:
             raise SceneError(f"object {self.name!r}: size_m must be 3 positive extents, got {self.size_m}")
         if self.kind == "cylinder" and not math.isclose(self.size_m[0], self.size_m[1]):
@@ -66,10 +79,18 @@ class ObjectSpec:
         return 0.5 * math.hypot(self.size_m[0], self.size_m[1])
 
     def pose(self) -> np.ndarray:
-        """4x4 world pose of the object frame (centre, yaw about z)."""
-        c, s = math.cos(self.yaw_rad), math.sin(self.yaw_rad)
+        """4x4 world pose of the object frame (centre; yaw about z or ``quat_wxyz``)."""
         T = np.eye(4)
-        T[:2, :2] = [[c, -s], [s, c]]
+        if self.quat_wxyz is not None:
+            w, x, y, z = (float(v) for v in self.quat_wxyz)
+            n = math.sqrt(w * w + x * x + y * y + z * z)
+            w, x, y, z = w / n, x / n, y / n, z / n
+            T[:3, :3] = [[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                         [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                         [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]]
+        else:
+            c, s = math.cos(self.yaw_rad), math.sin(self.yaw_rad)
+            T[:2, :2] = [[c, -s], [s, c]]
         T[:3, 3] = self.position_m
         return T
 

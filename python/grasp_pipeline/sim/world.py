@@ -47,7 +47,8 @@ from ..robot.description import (
     arm_dof_indices,
     arm_qpos_indices,
 )
-from .scene_spec import ObjectSpec, SceneSpec
+from .object_geoms import OBJECT_PREFIX, add_object
+from .scene_spec import SceneSpec
 from .scenes import reference_scene
 from .work_cell import TABLE_TOP_GEOM, read_work_cell
 from ..motion.work_cell import WorkCell
@@ -56,52 +57,19 @@ from ..robot.protocols import ContactAllowance
 log = logging.getLogger(__name__)
 
 SCENE_BASE_XML = "scene_base.xml"
-#: Prefix of object body and geom names in the model.
-OBJECT_PREFIX = "obj_"
-#: Geom group the cameras do not render (they see groups 0-2): objects made invisible.
-HIDDEN_GEOM_GROUP = 3
 #: Robot geoms whose name contains this are fingers (pads and finger bodies).
 FINGER_GEOM_MARK = "finger"
-#: Objects: torsional/rolling friction coefficients and contact dimension (4: torsional
-#: friction too, as in DESIGN.md's friction-grasp test).
-OBJECT_FRICTION_TORSION = 0.005
-OBJECT_FRICTION_ROLL = 0.0001
-OBJECT_CONDIM = 4
-#: Objects' contact softness: a 4 ms time constant (2 physics steps) and high impedance, like
-#: the fingertip pads, so a 40 N squeeze compresses the contact by about a millimetre, not 5.
-OBJECT_SOLREF = (0.004, 1.0)
-OBJECT_SOLIMP = (0.95, 0.99, 0.001, 0.5, 2.0)
 #: How far outside the joint limits a trajectory point may lie (numerical slack) [rad].
 TRAJECTORY_LIMIT_SLACK_RAD = 1e-3
 #: Table height check tolerance [m].
 TABLE_TOP_TOLERANCE_M = 1e-6
 
 
-def object_body_name(obj: ObjectSpec | str) -> str:
-    """Body (and geom) name of an object in the model."""
-    return OBJECT_PREFIX + (obj if isinstance(obj, str) else obj.name)
-
-
 def build_scene_model(scene: SceneSpec, config: SimConfig) -> mujoco.MjModel:
     """Compile robot + fixed set-up + the scene's objects into one ``MjModel``."""
     spec = mujoco.MjSpec.from_file(str(asset_path(SCENE_BASE_XML)))
     for obj in scene.objects:
-        body = spec.worldbody.add_body(name=object_body_name(obj), pos=list(obj.position_m),
-                                       quat=[math.cos(obj.yaw_rad / 2), 0.0, 0.0,
-                                             math.sin(obj.yaw_rad / 2)])
-        if not obj.fixed:
-            body.add_freejoint(name=object_body_name(obj) + "_free")
-        sx, sy, sz = obj.size_m
-        if obj.kind == "cylinder":
-            gtype, size = mujoco.mjtGeom.mjGEOM_CYLINDER, [sx / 2, sz / 2, 0.0]
-        else:
-            gtype, size = mujoco.mjtGeom.mjGEOM_BOX, [sx / 2, sy / 2, sz / 2]
-        body.add_geom(name=object_body_name(obj), type=gtype, size=size, rgba=list(obj.rgba),
-                      group=0 if obj.camera_visible else HIDDEN_GEOM_GROUP,
-                      density=config.object_density_kg_m3, condim=OBJECT_CONDIM,
-                      solref=list(OBJECT_SOLREF), solimp=list(OBJECT_SOLIMP),
-                      friction=[config.object_friction, OBJECT_FRICTION_TORSION,
-                                OBJECT_FRICTION_ROLL])
+        add_object(spec, obj, config)
     try:
         model = spec.compile()
     except Exception as exc:

@@ -1,0 +1,37 @@
+"""Object sets by name, as the command line gives them: ``builtin`` or a path.
+
+``object_set("builtin")`` is the procedural set that ships with the product
+(:mod:`.builtin`); a folder is read as VGN/GIGA's layout (one URDF per object) or as mesh
+files; a single OBJ/STL/URDF file is a set of one.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from .model import MeshError, ObjectModel
+
+BUILTIN = "builtin"
+MESH_SUFFIXES = (".obj", ".stl")
+
+
+def object_set(source: str | Path) -> list[ObjectModel]:
+    """The objects of ``source`` (see the module doc); MeshError when there are none."""
+    if str(source) == BUILTIN:
+        from .builtin import builtin_objects
+
+        return builtin_objects()
+    path = Path(source)
+    if not path.exists():
+        raise MeshError(f"object set {path}: no such file or folder (or use 'builtin')")
+    from .mesh_object import load_object, load_object_dir
+
+    if path.is_dir():
+        models = load_object_dir(path)
+        if not models:
+            models = [load_object(p) for p in sorted(path.iterdir()) if p.suffix.lower() in MESH_SUFFIXES]
+    else:
+        models = [load_object(path)]
+    if not models:
+        raise MeshError(f"object set {path}: no URDF, OBJ or STL objects found")
+    return models
