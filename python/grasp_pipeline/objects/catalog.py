@@ -12,7 +12,6 @@ from pathlib import Path
 from .model import MeshError, ObjectModel
 
 BUILTIN = "builtin"
-MESH_SUFFIXES = (".obj", ".stl")
 
 
 def object_set(source: str | Path) -> list[ObjectModel]:
@@ -24,14 +23,9 @@ def object_set(source: str | Path) -> list[ObjectModel]:
     path = Path(source)
     if not path.exists():
         raise MeshError(f"object set {path}: no such file or folder (or use 'builtin')")
-    from .mesh_object import load_object, load_object_dir
+    from .mesh_object import load_objects
 
-    if path.is_dir():
-        models = load_object_dir(path)
-        if not models:
-            models = [load_object(p) for p in sorted(path.iterdir()) if p.suffix.lower() in MESH_SUFFIXES]
-    else:
-        models = [load_object(path)]
+    models = load_objects(path)
     if not models:
         raise MeshError(f"object set {path}: no URDF, OBJ or STL objects found")
     return models

@@ -1,4 +1,4 @@
-"""One depth frame of the eye-in-hand camera, as perception receives it."""
+"""One RGB-D frame of the eye-in-hand camera, as perception receives it."""
 
 from __future__ import annotations
 
@@ -24,6 +24,9 @@ class Frame:
             integer coordinates): ``u = fx x/z + cx``, ``v = fy y/z + cy``.
         backend: which renderer produced it: ``"egl"``, ``"osmesa"`` (GL) or ``"raycast"``.
         index: running number of the frame from this camera (0, 1, ...).
+        rgb: (H, W, 3) uint8 colour image from the same camera at the same instant, aligned
+            pixel for pixel with ``depth`` (pixel (u, v) of both shows the same surface; it is
+            not masked where the depth is NaN), or None when the camera delivers no colour.
     """
 
     points_world: np.ndarray
@@ -33,6 +36,7 @@ class Frame:
     K: np.ndarray
     backend: str
     index: int = 0
+    rgb: np.ndarray | None = None
 
     @property
     def height(self) -> int:

@@ -1,4 +1,4 @@
-"""The eye-in-hand depth camera: rendering (GL or ray casting), noise, world point clouds.
+"""The eye-in-hand RGB-D camera: rendering (GL or ray casting), noise, world point clouds.
 
 Backends (chosen once, logged at INFO):
 
@@ -17,6 +17,20 @@ Per frame, on the *clean* depth: pixels nearer than ``min_range_m`` or farther t
 ``sigma(z) = noise_sigma_m * (z / noise_ref_range_m) ** noise_exponent`` (2 mm at 0.4 m by
 default), and the back-projection ``p_cam = z * ((u - cx)/fx, (v - cy)/fy, 1)``,
 ``p_world = T_world_camera p_cam``.
+
+Colour (``camera.rgb``, on by default): ``Frame.rgb`` is rendered by the same camera at the
+same instant as the depth, so pixel (u, v) of both shows the same surface. GL: a second pass of
+the same renderer and scene without depth rendering (shadows, reflections and skybox stay off
+as for the depth: in software GL they cost several times a whole frame). Ray cast: the hit
+geom's colour (its material's, times the mean texel of the material's texture, when it has a
+material and no colour of its own) with Lambert shading by a light at the camera,
+``ambient + (1 - ambient) |n . r|`` for the hit surface normal ``n`` and unit ray ``r``; no hit
+is black. The colour image is not masked where the depth is invalid.
+
+Labels (``camera.labels``, off by default; **evaluation only**): per pixel, the geom the pixel
+shows (GL: MuJoCo's segmentation rendering, a third pass; ray cast: the hit geom), -1 where
+there is none or the depth is invalid. They are never put in the frame: the camera keeps the
+image of its latest frame privately and :mod:`.ground_truth` turns it into object labels.
 
 The surface angle comes from the depth image itself: with ``g_u = fx dz/du`` and
 ``g_v = fy dz/dv`` (one-sided differences, the smaller of the two, so an object's outline
@@ -67,6 +81,19 @@ _RAY_SCENE_CACHE = 256
 #: Unit cube corners, for the geoms' local bounding boxes.
 _BOX_CORNERS = np.array([[sx, sy, sz] for sx in (-1.0, 1.0) for sy in (-1.0, 1.0)
                          for sz in (-1.0, 1.0)])
+#: Ray-cast colour: share of a surface's colour lit regardless of its angle to the ray.
+RGB_AMBIENT = 0.3
+#: MuJoCo's default geom colour; a geom with a material and this colour shows the material's.
+_DEFAULT_GEOM_RGBA = np.array([0.5, 0.5, 0.5, 1.0], dtype=np.float32)
+
+
+class _RayHits:
+    """Per-pixel by-products of a ray cast: the hit geom (scene model ids, -1 for none) and,
+    when ``shade`` is requested, ``|cos|`` of the angle between the ray and the surface."""
+
+    def __init__(self, h: int, w: int, shade: bool):
+        self.geom = np.full((h, w), -1, dtype=np.int32)
+        self.cos = np.zeros((h, w), dtype=np.float32) if shade else None
 
 
 def default_raycast_threads() -> int:
@@ -127,11 +154,11 @@ def intrinsics(width_px: int, height_px: int, vfov_deg: float) -> np.ndarray:
 
 
 class DepthCamera:
-    """Renders depth frames of the camera :data:`~grasp_pipeline.robot.description.CAMERA_NAME` (or ``camera_name``) of a model.
+    """Renders RGB-D frames of the camera :data:`~grasp_pipeline.robot.description.CAMERA_NAME` (or ``camera_name``) of a model.
 
     Args:
         model, data: the simulation the camera lives in (``data`` is read, never stepped).
-        config: image size, field of view, valid range, noise, backend.
+        config: image size, field of view, valid range, noise, backend, colour, labels.
 
     The vertical field of view in ``config`` is written into ``model.cam_fovy`` so the model
     and the intrinsics agree. Call :meth:`close` (or use ``with``) to free the GL context and
@@ -159,6 +186,13 @@ class DepthCamera:
         self._fx = np.float32(fx)
         self._fy = np.float32(fy)
         self._rng = np.random.default_rng(config.seed)
+        self._rgb = bool(config.rgb)
+        # Evaluation only (read by the ground-truth module, never put in a frame): whether
+        # labels are computed, the per-pixel geom ids of the latest frame and its identity.
+        self._eval_labels = bool(config.labels)
+        self._eval_geoms: np.ndarray | None = None
+        self._eval_frame_key: tuple | None = None
+        self._mat_texel: np.ndarray | None = None  # (nmat, 3) mean texel of each material
         self._renderer: mujoco.Renderer | None = None
         self._frame_index = 0
         self._pool: ThreadPoolExecutor | None = None
@@ -241,7 +275,32 @@ class DepthCamera:
         self._renderer.update_scene(self.data, camera=self.cam_id)
         return np.asarray(self._renderer.render(), dtype=np.float32)
 
-    def _clean_depth_raycast(self, T_world_camera: np.ndarray) -> np.ndarray:
+    def _rgb_gl(self) -> np.ndarray:
+        """Colour of the scene the last :meth:`_clean_depth_gl` rendered (same instant)."""
+        r = self._renderer
+        assert r is not None
+        r.disable_depth_rendering()
+        try:
+            return np.ascontiguousarray(r.render(), dtype=np.uint8)
+        finally:
+            r.enable_depth_rendering()
+
+    def _geoms_gl(self) -> np.ndarray:
+        """Per pixel, the geom of the scene the last :meth:`_clean_depth_gl` rendered (MuJoCo's
+        segmentation rendering), -1 for anything else (background, non-geom decor)."""
+        r = self._renderer
+        assert r is not None
+        r.enable_segmentation_rendering()
+        try:
+            seg = r.render()
+        finally:
+            r.disable_segmentation_rendering()
+            r.enable_depth_rendering()
+        is_geom = seg[..., 1] == int(mujoco.mjtObj.mjOBJ_GEOM)
+        return np.where(is_geom, seg[..., 0], -1).astype(np.int32)
+
+    def _clean_depth_raycast(self, T_world_camera: np.ndarray,
+                             hits: _RayHits | None = None) -> np.ndarray:
         """Depth along the optical axis per pixel by ray casting, exactly as one
         ``mj_multiRay`` over all visible geoms of the scene model would give it
         (:meth:`_clean_depth_raycast_plain`), but 3-4x faster on one thread:
@@ -262,11 +321,12 @@ class DepthCamera:
         Each ray's direction, the cutoff and the final division are computed with the same
         float operations as in the plain ray cast, so the depths are bit-identical. The scene
         model and its data are only read. Models with a visible mesh / hfield / SDF geom or a
-        flex take the plain path.
+        flex take the plain path. ``hits``, when given, receives each pixel's hit geom (and
+        shading).
         """
         cand = self._raycast_candidates()
         if cand is None:
-            return self._clean_depth_raycast_plain(T_world_camera)
+            return self._clean_depth_raycast_plain(T_world_camera, hits)
         h, w = self.config.height_px, self.config.width_px
         z = np.empty((h, w), dtype=np.float32)
         scenes = self._tile_scenes(self._tile_geoms(T_world_camera, cand))
@@ -283,7 +343,7 @@ class DepthCamera:
                     t = next_tile()
                 if t >= n_tiles:
                     return
-                self._cast_tile(worker, self._tiles[t], scenes[t], R32, pnt, cutoff, z)
+                self._cast_tile(worker, self._tiles[t], scenes[t], R32, pnt, cutoff, z, hits)
 
         n_workers = min(self.raycast_threads, n_tiles)
         if n_workers <= 1:
@@ -302,10 +362,10 @@ class DepthCamera:
 
     def _cast_tile(self, worker: int, tile: tuple[int, int, int, int],
                    scene: "_RayScene | None", R32: np.ndarray, pnt: np.ndarray, cutoff: float,
-                   z: np.ndarray) -> None:
+                   z: np.ndarray, hits: _RayHits | None = None) -> None:
         r0, r1, c0, c1 = tile
         norm = self._ray_norm[r0:r1, c0:c1]
-        if scene is None:  # nothing the tile can see
+        if scene is None:  # nothing the tile can see (hits are preset to "none")
             z[r0:r1, c0:c1] = np.inf
             return
         n = norm.size
@@ -318,10 +378,16 @@ class DepthCamera:
         data.geom_xmat[:] = self.data.geom_xmat[scene.geoms]
         geomid = np.empty(n, dtype=np.int32)
         dist = np.empty(n, dtype=np.float64)
+        normal = np.empty(3 * n, dtype=np.float64) if hits and hits.cos is not None else None
         mujoco.mj_multiRay(scene.model, data, pnt, vec.reshape(-1), None, 1, -1,
-                           geomid, dist, None, n, cutoff)
+                           geomid, dist, normal, n, cutoff)
         dist[geomid < 0] = np.inf
         z[r0:r1, c0:c1] = dist.reshape(norm.shape) / norm
+        if hits is not None:  # private-model geom index -> scene model geom id
+            g = np.where(geomid >= 0, scene.geoms[np.maximum(geomid, 0)], -1)
+            hits.geom[r0:r1, c0:c1] = g.reshape(norm.shape)
+            if normal is not None:
+                hits.cos[r0:r1, c0:c1] = _abs_cos(normal, vec, norm.shape)
 
     def _raycast_candidates(self) -> np.ndarray | None:
         """Geoms a ray can hit (visible group, not transparent), or None when the model needs
@@ -385,8 +451,10 @@ class DepthCamera:
             scenes.append(scene)
         return scenes
 
-    def _clean_depth_raycast_plain(self, T_world_camera: np.ndarray) -> np.ndarray:
-        """One ``mj_multiRay`` over all visible geoms of the scene model, on this thread."""
+    def _clean_depth_raycast_plain(self, T_world_camera: np.ndarray,
+                                   hits: _RayHits | None = None) -> np.ndarray:
+        """One ``mj_multiRay`` over all visible geoms of the scene model, on this thread
+        (``hits``: as in :meth:`_clean_depth_raycast`)."""
         h, w = self.config.height_px, self.config.width_px
         n = h * w
         vec = np.empty((h, w, 3), dtype=np.float64)
@@ -394,11 +462,42 @@ class DepthCamera:
             vec[..., i] = d / self._ray_norm  # unit rays
         geomid = np.empty(n, dtype=np.int32)
         dist = np.empty(n, dtype=np.float64)
+        normal = np.empty(3 * n, dtype=np.float64) if hits and hits.cos is not None else None
         mujoco.mj_multiRay(self.model, self.data, T_world_camera[:3, 3].copy(), vec.reshape(-1),
-                           VISIBLE_GEOM_GROUPS, 1, -1, geomid, dist, None, n,
+                           VISIBLE_GEOM_GROUPS, 1, -1, geomid, dist, normal, n,
                            float(self.config.max_range_m) * float(self._ray_norm.max()))
         dist[geomid < 0] = np.inf
+        if hits is not None:
+            hits.geom[:] = geomid.reshape(h, w)
+            if normal is not None:
+                hits.cos[:] = _abs_cos(normal, vec, (h, w))
         return (dist.reshape(h, w) / self._ray_norm).astype(np.float32)
+
+    # ------------------------------------------------------------------ ray-cast colour
+    def _geom_colours(self) -> np.ndarray:
+        """(ngeom + 1, 3) float32 colour of each geom as the renderer shows it (a geom with a
+        material and MuJoCo's default colour takes the material's, times the mean texel of its
+        texture); the extra last row, black, is "no hit" (geom id -1)."""
+        m = self.model
+        col = np.zeros((m.ngeom + 1, 3), dtype=np.float32)
+        col[:-1] = m.geom_rgba[:, :3]
+        if m.nmat > 0:
+            if self._mat_texel is None:
+                self._mat_texel = _mean_texels(m)
+            use = (m.geom_matid >= 0) & np.all(m.geom_rgba == _DEFAULT_GEOM_RGBA, axis=1)
+            mat = m.geom_matid[use]
+            col[:-1][use] = m.mat_rgba[mat, :3] * self._mat_texel[mat]
+        return col
+
+    def _rgb_raycast(self, hits: _RayHits) -> np.ndarray:
+        """(H, W, 3) uint8 colour from the hit geoms, Lambert-shaded; black where no hit."""
+        assert hits.cos is not None
+        shade = hits.cos * np.float32(255.0 * (1.0 - RGB_AMBIENT))
+        shade += np.float32(255.0 * RGB_AMBIENT)
+        # geom -1 wraps to the black last row (np.take is ~2x faster than fancy indexing here)
+        rgb = np.take(self._geom_colours(), hits.geom, axis=0, mode="wrap")
+        rgb *= shade[..., None]
+        return rgb.astype(np.uint8)  # <= 255 by construction (colours and |cos| <= 1)
 
     def _world_directions(self, R: np.ndarray) -> list[np.ndarray]:
         """Per pixel, the world direction of the camera-frame vector (x, y, 1), as three
@@ -434,14 +533,31 @@ class DepthCamera:
             return z * z < (self._cos_grazing**2) * n2 * self._ray_norm2
 
     # ------------------------------------------------------------------ capture
-    def capture(self) -> Frame:
-        """One frame of the state currently in ``data`` (kinematics must be up to date)."""
-        cfg = self.config
-        T = self.pose()
+    def _clean_images(self, T: np.ndarray) -> tuple[np.ndarray, np.ndarray | None,
+                                                      np.ndarray | None]:
+        """Clean depth, colour (None when off) and per-pixel geom ids (None unless labels are
+        on) of the camera at pose ``T``, all of the same instant."""
+        want_geoms = self._eval_labels
         if self.backend == "raycast":
-            z = self._clean_depth_raycast(T)
+            hits = _RayHits(*self._ray_norm.shape, shade=self._rgb) \
+                if (self._rgb or want_geoms) else None
+            z = self._clean_depth_raycast(T, hits)
+            rgb = self._rgb_raycast(hits) if self._rgb else None
+            geoms = hits.geom if want_geoms else None
         else:
             z = self._clean_depth_gl()
+            rgb = self._rgb_gl() if self._rgb else None
+            geoms = self._geoms_gl() if want_geoms else None
+        return z, rgb, geoms
+
+    def capture(self) -> Frame:
+        """One frame (depth, points and, unless ``rgb`` is off, colour) of the state currently
+        in ``data`` (kinematics must be up to date). With labels on, the per-pixel geom ids of
+        this frame replace those of the previous one (evaluation code reads them through the
+        ground-truth module)."""
+        cfg = self.config
+        T = self.pose()
+        z, rgb, geoms = self._clean_images(T)
         invalid = ~((z >= cfg.min_range_m) & (z <= cfg.max_range_m))
         z = np.where(invalid, np.float32(np.nan), z)
         invalid |= self._grazing_mask(z)
@@ -456,6 +572,37 @@ class DepthCamera:
         pts_world = pts_world.reshape(-1, 3)
         frame = Frame(points_world=pts_world, depth=z, time_s=float(self.data.time),
                       T_world_camera=T, K=self.K.copy(), backend=self.backend,
-                      index=self._frame_index)
+                      index=self._frame_index, rgb=rgb)
+        if geoms is not None:
+            geoms[np.isnan(z)] = -1  # labels only where the frame has a point
+        self._eval_geoms = geoms
+        self._eval_frame_key = (frame.index, frame.time_s, T.tobytes())
         self._frame_index += 1
         return frame
+
+
+def _abs_cos(normal: np.ndarray, vec: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
+    """``|n . r|`` per ray from ``mj_multiRay``'s flat normals and unit rays, as float32."""
+    n, r = normal.reshape(-1, 3), vec.reshape(-1, 3)
+    c = n[:, 0] * r[:, 0]
+    c += n[:, 1] * r[:, 1]
+    c += n[:, 2] * r[:, 2]
+    np.abs(c, out=c)
+    np.minimum(c, 1.0, out=c)
+    return c.astype(np.float32).reshape(shape)
+
+
+def _mean_texels(model: mujoco.MjModel) -> np.ndarray:
+    """(nmat, 3) float32: the mean texel (0..1) of each material's colour texture, 1 without
+    one (a ray cast samples no texture; the mean keeps e.g. a checker floor grey, not white)."""
+    col = np.ones((model.nmat, 3), dtype=np.float32)
+    role = int(mujoco.mjtTextureRole.mjTEXROLE_RGB)
+    texid = model.mat_texid[:, role] if model.mat_texid.ndim == 2 else model.mat_texid
+    for mat in np.flatnonzero(texid >= 0):
+        t = int(texid[mat])
+        nch = int(model.tex_nchannel[t])
+        n = int(model.tex_width[t]) * int(model.tex_height[t]) * nch
+        texels = model.tex_data[model.tex_adr[t]:model.tex_adr[t] + n].reshape(-1, nch)
+        if nch >= 3:
+            col[mat] *= texels[:, :3].mean(axis=0) / 255.0
+    return col

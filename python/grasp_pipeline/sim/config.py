@@ -23,7 +23,10 @@ def _check_range(name: str, rng: tuple[float, ...], lo: float = 0.0) -> None:
 
 @dataclass(frozen=True)
 class CameraConfig:
-    """Depth camera: image size, field of view, rate, valid range, noise model, backend."""
+    """Depth camera: image size, field of view, rate, valid range, noise model, backend;
+    ``rgb``: deliver a colour image aligned with the depth (``Frame.rgb``); ``labels``: also
+    compute per-pixel object labels (evaluation only, read through the ground-truth module,
+    never in the frame)."""
 
     width_px: int = 640
     height_px: int = 480
@@ -37,6 +40,8 @@ class CameraConfig:
     grazing_max_deg: float = 80.0
     backend: str = "auto"
     seed: int = 0
+    rgb: bool = True
+    labels: bool = False
 
     def validate(self) -> None:
         if not (8 <= self.width_px <= MAX_IMAGE_PX and 8 <= self.height_px <= MAX_IMAGE_PX):
@@ -57,6 +62,10 @@ class CameraConfig:
             raise ConfigError(f"grazing_max_deg must be in (0, 90], got {self.grazing_max_deg}")
         if self.backend not in CAMERA_BACKENDS:
             raise ConfigError(f"backend must be one of {CAMERA_BACKENDS}, got {self.backend!r}")
+        for flag in ("rgb", "labels"):
+            value = getattr(self, flag)
+            if not isinstance(value, bool):
+                raise ConfigError(f"camera.{flag} must be true or false, got {value!r}")
 
     @property
     def period_s(self) -> float:

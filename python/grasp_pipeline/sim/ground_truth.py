@@ -2,7 +2,8 @@
 
 Perception, planning and execution must never import this module: they work from depth frames
 and the robot's own state, as on a real robot. Scoring code (reports, benchmarks, tests) reads
-here what really stands where.
+here what really stands where — including, per pixel of a frame, which object it shows
+(:func:`frame_labels`, after :func:`enable_frame_labels` or with ``camera.labels: true``).
 """
 
 from __future__ import annotations
@@ -11,8 +12,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..robot.frame import Frame
+from .exceptions import ModelError, SimError
 from .object_geoms import object_body_name
 from .world import SimWorld
+
+#: Label of a pixel that shows no scene object (table, robot, tray, background) or has no
+#: valid depth.
+NO_OBJECT = -1
+
+
+class FrameLabelsError(SimError, ValueError):
+    """No labels for that frame: labelling is off, or it is not the camera's latest frame."""
 
 
 @dataclass(frozen=True)
@@ -61,3 +72,53 @@ def object_truth(world: SimWorld, name: str) -> ObjectTruth:
             return t
     raise KeyError(f"no object {name!r} in scene {world.scene.name!r}; "
                    f"known: {[o.name for o in world.scene.objects]}")
+
+
+def enable_frame_labels(world: SimWorld, enabled: bool = True) -> None:
+    """Make the world's camera compute per-pixel labels from its next capture on (as
+    ``camera.labels: true`` does; GL: one more render pass per frame)."""
+    camera = _camera(world)
+    camera._eval_labels = bool(enabled)
+    if not enabled:
+        camera._eval_geoms = None
+
+
+def object_geom_labels(world: SimWorld) -> np.ndarray:
+    """(ngeom + 1,) int32: per geom of the model, the index in ``world.scene.objects`` of the
+    object it belongs to, else :data:`NO_OBJECT`; the last entry (for geom id -1) too."""
+    m = world.model
+    body_label = np.full(m.nbody, NO_OBJECT, dtype=np.int32)
+    for i, obj in enumerate(world.scene.objects):
+        body_label[m.body(object_body_name(obj)).id] = i
+    return np.append(body_label[m.geom_bodyid], np.int32(NO_OBJECT))
+
+
+def frame_labels(world: SimWorld, frame: Frame) -> np.ndarray:
+    """(H, W) int32: per pixel of ``frame``, the index in ``world.scene.objects`` of the object
+    it shows, :data:`NO_OBJECT` (-1) for anything else and wherever the depth is invalid — so
+    the labelled pixels are exactly the labelled valid rows ``v*W + u`` of
+    ``frame.points_world``.
+
+    Only the camera's latest frame has labels (the camera keeps one label image), and only
+    when labelling was on for its capture; otherwise :class:`FrameLabelsError`.
+    """
+    camera = _camera(world)
+    key = camera._eval_frame_key
+    if key is None or key != (frame.index, frame.time_s, frame.T_world_camera.tobytes()):
+        latest = "none yet" if key is None else f"frame {key[0]} at t = {key[1]:.4f} s"
+        raise FrameLabelsError(
+            f"labels exist only for the camera's latest frame; frame {frame.index} "
+            f"(t = {frame.time_s:.4f} s) is not it (latest: {latest}) — take the labels right "
+            "after the capture")
+    geoms = camera._eval_geoms
+    if geoms is None:
+        raise FrameLabelsError(
+            f"frame {frame.index} was captured without labels; call "
+            "enable_frame_labels(world) (or set camera.labels: true) before capturing")
+    return object_geom_labels(world)[geoms]
+
+
+def _camera(world: SimWorld):
+    if world.camera is None:
+        raise ModelError("this SimWorld was created with camera=False: no frames, no labels")
+    return world.camera

@@ -88,10 +88,15 @@ def _add_mesh_object(spec: mujoco.MjSpec, body, obj: ObjectSpec, config: SimConf
     visual = model.visual if obj.camera_visible else None
     part_group = (COLLISION_ONLY_GROUP if visual is not None else
                   0 if obj.camera_visible else HIDDEN_GEOM_GROUP)
+    material = _material(config)
+    # overlapping hull parts would count shared volume twice: the mass is the object's volume
+    parts_volume = sum(abs(float(p.volume)) for p in model.parts)
+    if parts_volume > 0:
+        material["density"] = config.object_density_kg_m3 * model.volume_m3() / parts_volume
     for k, part in enumerate(model.parts):
         _add_mesh_asset(spec, f"{base}_p{k}", part, offset, shell=False)
         body.add_geom(name=f"{base}_p{k}", type=mujoco.mjtGeom.mjGEOM_MESH, meshname=f"{base}_p{k}",
-                      rgba=list(obj.rgba), group=part_group, **_material(config))
+                      rgba=list(obj.rgba), group=part_group, **material)
     if visual is not None:
         _add_mesh_asset(spec, f"{base}_visual", visual, offset, shell=True)
         body.add_geom(name=f"{base}_visual", type=mujoco.mjtGeom.mjGEOM_MESH, meshname=f"{base}_visual",

@@ -14,7 +14,7 @@ from grasp_pipeline.settings import load_settings
 
 
 def test_an_unknown_scene_is_refused_before_the_world_is_built(tmp_path):
-    with pytest.raises(InputError, match="scene must be 'reference' or 'random'"):
+    with pytest.raises(InputError, match="scene must be one of reference, random"):
         run_pipeline(scene="moon", out_dir=tmp_path, video=False)
 
 

@@ -31,7 +31,7 @@ def world():
     model = l_block()
     ext = model.extents_m()
     obj = ObjectSpec("l_block", "mesh", tuple(float(e) for e in ext),
-                     (0.45, 0.15, TABLE_Z + 0.5 * ext[2] + 0.0005), mesh=model)
+                     (0.45, 0.15, TABLE_Z + 0.5 * ext[2] + 0.0005), rgba=model.rgba, mesh=model)
     ref = reference_scene()
     w = SimWorld(dataclasses.replace(ref, objects=ref.objects + (obj,)))
     yield w
