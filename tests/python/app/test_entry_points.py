@@ -25,8 +25,13 @@ EXE = Path(sys.executable).parent / "grasp-pipeline"
 ONE_OBJECT = ["--set", "sim.object_count=[1,1]"]
 TIMEOUT_S = 900
 
-pytestmark = pytest.mark.skipif(not EXE.exists(), reason="needs the installed console script "
-                                "(make test installs it with pip install .)")
+
+
+@pytest.fixture(autouse=True)
+def installed_console_script():
+    """These tests run the product as a user does: the console script ``pip install .``
+    installs next to this interpreter (``make test`` does that first)."""
+    assert EXE.exists(), f"{EXE} is missing: install the package first (make setup, or pip install .)"
 
 
 def clean_env(gl: str | None, home: Path) -> dict:

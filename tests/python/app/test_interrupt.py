@@ -10,7 +10,6 @@ import pytest
 
 from .test_entry_points import EXE, clean_env
 
-pytestmark = pytest.mark.skipif(not EXE.exists(), reason="needs the installed console script")
 
 
 @pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])

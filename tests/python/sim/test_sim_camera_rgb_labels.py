@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import dataclasses
 
+import os
+
 import numpy as np
 import pytest
 
@@ -12,6 +14,7 @@ from grasp_pipeline.robot.frame import Frame
 from grasp_pipeline.sim.config import CameraConfig, load_camera_config
 from grasp_pipeline.sim.ground_truth import (NO_OBJECT, FrameLabelsError, enable_frame_labels,
                                              frame_labels, object_truths)
+from grasp_pipeline.sim.gl_backend import GL_OFF_VALUES
 from grasp_pipeline.sim.scenes import reference_scene
 
 SMALL = {"width_px": 320, "height_px": 240}
@@ -26,7 +29,10 @@ def _world(make_world, backend: str, **overrides):
         values["backend"] = "raycast"
     world = make_world(reference_scene(), camera_config=load_camera_config(overrides=values))
     if backend == "gl" and world.camera.backend == "raycast":
-        pytest.skip("no GL in this process")
+        # only a user's explicit MUJOCO_GL=disable excuses the GL half; otherwise it must run
+        if os.environ.get("MUJOCO_GL", "").strip().lower() not in GL_OFF_VALUES:
+            pytest.fail("the GL camera fell back to ray casting although GL was not disabled")
+        pytest.skip("MUJOCO_GL disables GL in this test session")
     return world
 
 
