@@ -9,8 +9,6 @@ TOPP-RA). Without any GL (``disable``) the camera ray-casts and the video is ski
 from __future__ import annotations
 
 import json
-import os
-import shutil
 import subprocess
 import sys
 from pathlib import Path

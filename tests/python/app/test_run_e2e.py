@@ -1,7 +1,6 @@
 """End-to-end on the reference scene (SPEC 8) with the real parts: MuJoCo physics and
 rendering, the PCL core, OMPL, TOPP-RA. No mocks. One run serves several assertions."""
 
-import numpy as np
 import pytest
 
 from grasp_pipeline.app.run import run_pipeline
