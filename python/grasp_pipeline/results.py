@@ -8,7 +8,7 @@ simulated seconds unless named ``wall``.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Optional
+from typing import Any, Optional, TypedDict
 
 #: ``RunReport.status`` values.
 STATUS_RUNNING = "running"
@@ -136,3 +136,40 @@ class RunReport:
         from .report.serialize import to_jsonable
 
         return to_jsonable(self)
+
+
+# ---- benchmark records: TypedDicts, since they cross process pipes (pickled) and are
+# ---- aggregated as mappings; written by the same serializer.
+
+class SceneScanSummary(TypedDict):
+    completed: bool
+    failure: str
+    nadir: int
+
+
+class SceneRecord(TypedDict):
+    """One scene of ``bench grasp``: facts, per-object outcome and errors, picks, timings."""
+
+    index: int
+    seed: int
+    objects: int
+    picks: int
+    error: Optional[str]
+    run_error: Optional[str]
+    scan: Optional[SceneScanSummary]
+    object_rows: list
+    pick_rows: list
+    timings: dict
+
+
+class MotionRecord(TypedDict, total=False):
+    """One motion of ``bench planning``: planned (and executed) or its error."""
+
+    scene: str
+    kind: str
+    ok: bool
+    planning_ms: float
+    method: str
+    toppra_ms: float
+    duration_s: float
+    error: str

@@ -40,6 +40,7 @@ from typing import Any, Iterable, Optional
 
 from ..app.run_command import sigterm_as_interrupt
 from ..report.serialize import check_writable, check_writable_dir, write_json
+from ..results import SceneRecord, SceneScanSummary
 
 log = logging.getLogger(__name__)
 
@@ -229,7 +230,7 @@ def _object_row(o: dict, picks: list[dict], rough: dict, nadir: dict, report: di
 
 
 def scene_record(index: int, seed: int, objects: list[dict], report: Optional[dict],
-                 error: Optional[str] = None, wall_s: Optional[float] = None) -> dict:
+                 error: Optional[str] = None, wall_s: Optional[float] = None) -> SceneRecord:
     """The compact per-scene record: scene facts, per-object outcome and errors, picks.
 
     ``objects``: the scene's true objects (name, kind, size_m, position_m) from the spec;
@@ -243,13 +244,12 @@ def scene_record(index: int, seed: int, objects: list[dict], report: Optional[di
     picks = _pick_rows(list(report.get("picks") or []), objects)
     scan = report.get("scan") or {}
     obj_rows = [_object_row(o, picks, rough, nadir, report, error) for o in objects]
-    rec = {"index": index, "seed": seed, "objects": len(objects),
-           "picks": sum(r["picked"] for r in obj_rows), "error": error,
-           "run_error": report.get("error"),
-           "scan": {"completed": bool(scan.get("completed")), "failure": scan.get("failure") or "",
-                    "nadir": sum(r["nadir"] for r in obj_rows)} if scan else None,
-           "object_rows": obj_rows, "pick_rows": picks, "timings": timings}
-    return rec
+    scan_summary = SceneScanSummary(completed=bool(scan.get("completed")), failure=scan.get("failure") or "",
+                                    nadir=sum(r["nadir"] for r in obj_rows)) if scan else None
+    return SceneRecord(index=index, seed=seed, objects=len(objects),
+                       picks=sum(r["picked"] for r in obj_rows), error=error,
+                       run_error=report.get("error"), scan=scan_summary, object_rows=obj_rows,
+                       pick_rows=picks, timings=timings)
 
 
 def scene_settings(overrides: tuple = (None, ())):

@@ -28,6 +28,7 @@ from ..orchestration import GeometricGraspSource, GraspRequest
 from ..orchestration.grasp_planning import plan_grasp
 from ..orchestration.scene_model import snapshot
 from ..robot.description import GRIPPER_MAX_WIDTH_M
+from ..results import MotionRecord
 from ..robot.protocols import ContactAllowance
 
 log = logging.getLogger(__name__)
@@ -52,8 +53,8 @@ class _Recorder:
         self.contacts: list[str] = []
 
     def execute(self, kind: str, traj, allowance=ContactAllowance.NONE) -> bool:
-        rec = {"scene": self.scene, "kind": kind, "ok": False, "planning_ms": traj.path.planning_ms,
-               "method": traj.path.method, "toppra_ms": traj.timing_ms, "duration_s": traj.duration_s}
+        rec = MotionRecord(scene=self.scene, kind=kind, ok=False, planning_ms=traj.path.planning_ms,
+                           method=traj.path.method, toppra_ms=traj.timing_ms, duration_s=traj.duration_s)
         self.records.append(rec)
         rt, motion = self.system.rt, self.system.motion
         try:
@@ -72,9 +73,9 @@ class _Recorder:
         try:
             traj = plan_fn()
         except MotionError as exc:
-            self.records.append({"scene": self.scene, "kind": kind, "ok": False,
-                                 "planning_ms": (time.perf_counter() - t0) * 1e3, "method": "none",
-                                 "error": f"{type(exc).__name__}: {exc}"})
+            self.records.append(MotionRecord(scene=self.scene, kind=kind, ok=False,
+                                             planning_ms=(time.perf_counter() - t0) * 1e3,
+                                             method="none", error=f"{type(exc).__name__}: {exc}"))
             log.warning("%s %s: %s", self.scene, kind, self.records[-1]["error"])
             return False
         return self.execute(kind, traj, allowance)
@@ -86,7 +87,9 @@ def _scan_motions(system, rec: _Recorder, settings) -> None:
         return
     system.rt.run(system.scanner.task, settings.scan.scan_timeout_s)
     for p in system.motion.plans:  # the scan's executed motions
-        rec.records.append({"scene": rec.scene, "kind": p["kind"], "ok": True, **p})
+        rec.records.append(MotionRecord(scene=rec.scene, kind=p["kind"], ok=True, method=p["method"],
+                                        planning_ms=p["planning_ms"], toppra_ms=p["timing_ms"],
+                                        duration_s=p["duration_s"]))
     system.motion.plans.clear()
 
 
@@ -102,9 +105,9 @@ def _grasp_motions(system, rec: _Recorder, track, settings) -> None:
         planned = plan_grasp(motion, GeometricGraspSource().propose(req), cfg,
                              system.world.tcp_pose(), system.world.finger_gap_m, GRIPPER_MAX_WIDTH_M)
     except MotionError as exc:
-        rec.records.append({"scene": rec.scene, "kind": "pregrasp+approach", "ok": False,
-                            "planning_ms": (time.perf_counter() - t0) * 1e3, "method": "none",
-                            "error": f"{type(exc).__name__}: {exc}"})
+        rec.records.append(MotionRecord(scene=rec.scene, kind="pregrasp+approach", ok=False,
+                                        planning_ms=(time.perf_counter() - t0) * 1e3, method="none",
+                                        error=f"{type(exc).__name__}: {exc}"))
         return
     fingers = ContactAllowance.FINGERS
     if rec.execute("pregrasp", planned.pre_grasp) and rec.execute("approach", planned.approach, fingers):
