@@ -3,7 +3,8 @@
 It drives the product's own code: per seeded random scene the simulated system is built as
 for ``run`` (:func:`grasp_pipeline.app.sim_system.build_system`), the rough view is taken,
 the real :class:`~grasp_pipeline.orchestration.ActiveScan` probes every object (its motions
-are recorded), and then for every tracked object the grasp action's own planning
+are recorded), and then for every object the run would pick (its default targets) the grasp
+action's own planning
 (:func:`~grasp_pipeline.orchestration.grasp_planning.plan_grasp` on the candidates of the
 :class:`~grasp_pipeline.orchestration.GeometricGraspSource`) plans pre-grasp and approach;
 they are executed, followed by the lift line and the way back to the start joints. The
@@ -24,9 +25,10 @@ import numpy as np
 
 from .. import _core
 from ..motion.exceptions import ExecutionError, MotionError
-from ..orchestration import GeometricGraspSource, GraspRequest
+from ..orchestration import GeometricGraspSource, GraspRequest, default_targets
 from ..orchestration.grasp_planning import plan_grasp
 from ..orchestration.scene_model import snapshot
+from ..orchestration.tracks import nearest_track
 from ..robot.description import GRIPPER_MAX_WIDTH_M
 from ..results import MotionRecord
 from ..robot.protocols import ContactAllowance
@@ -130,10 +132,14 @@ def benchmark_scene(seed: int, settings) -> tuple[list[dict], list[str]]:
         system.rt.spin(settings.scan.rough_view_s)
         if system.loop.plane is None:
             raise RuntimeError("perception found no table plane from the start pose")
+        rough_tids = {int(t.tid) for t in system.loop.tracks()}
         _scan_motions(system, rec, settings)
-        for track in list(system.loop.tracks()):
-            if track.smoothed.grasp_ok:
-                _grasp_motions(system, rec, track, settings)
+        # the objects the run would pick (over the table, not the tray's rim or far glimpses)
+        targets, _ = default_targets(system.loop.tracks(), system.cell,
+                                     settings.grasp.target_fixture_margin_m, rough_tids)
+        for xy in targets:
+            track, _ = nearest_track(system.loop.tracks(), xy)
+            _grasp_motions(system, rec, track, settings)
     finally:
         system.close()
     return rec.records, rec.contacts
