@@ -65,6 +65,35 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
     _add_scene_benchmark_options(w, scenes=6, workers=2, workers_help="workers of the second run (default 2)",
                                  out="out/bench_workers", out_help="folder for both runs' JSON, summaries and plots")
     _add_config_options(w, "scene_filter, obb, camera, sim, motion, scan, grasp", "sim.object_count=[1,3]")
+    _add_clutter_bench(bsub)
+
+
+def _add_clutter_bench(bsub) -> None:
+    c = bsub.add_parser(
+        "clutter", help="cluttered tables (VGN/GIGA packed and pile protocols): GSR, declutter rate",
+        description="Rounds of the VGN/GIGA clutter benchmark with the whole product: build the "
+                    "scene, rough view, scan, then pick one object at a time into the tray, looking "
+                    "again after each attempt; a round ends when the table is clear, nothing graspable "
+                    "is proposed, or after 2 failed attempts in a row. Reports grasp success rate "
+                    "(successes / attempts) and declutter rate (successes / objects placed) per seed "
+                    "and mean +- std, failures by stage, success by object, segmentation quality at the "
+                    "scan, and times; writes the JSON, OUT/summary.md, plots and a PNG per failed attempt.")
+    c.add_argument("--protocol", choices=["packed", "pile", "sparse"], default="packed",
+                   help="scene protocol (default packed)")
+    c.add_argument("--objects", default="builtin", metavar="builtin|DIR",
+                   help="object set: the built-in set or a folder of URDF (VGN layout) / OBJ / STL objects")
+    c.add_argument("--rounds", type=positive_int, default=20, help="rounds per seed (default 20)")
+    c.add_argument("--seed", type=non_negative_int, nargs="+", default=[0],
+                   help="benchmark seed(s); each seed runs --rounds rounds (round seeds derive from it)")
+    c.add_argument("--workers", type=positive_int, default=1, help="worker processes (one thread each)")
+    c.add_argument("--json", type=Path, required=True, help="where to write the JSON result")
+    c.add_argument("--out", type=Path, default=Path("out/bench_clutter"),
+                   help="folder for summary.md, plots, failure PNGs and per-round reports")
+    c.add_argument("--no-progress", action="store_true", help="no progress bar")
+    c.add_argument("--round-timeout", type=positive_float, default=3600.0, metavar="S",
+                   help="wall-clock limit of one round in seconds (default 3600)")
+    _add_config_options(c, "scene_filter, obb, camera, sim, clutter, motion, scan, grasp, declutter",
+                        "clutter.objects_per_scene=3")
 
 
 def _add_scene_benchmark_options(p: argparse.ArgumentParser, scenes: int, workers: int, workers_help: str,
@@ -156,6 +185,9 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
                    help="object set of packed/pile scenes: the built-in set or a folder of "
                         "URDF (VGN layout) / OBJ / STL objects")
     p.add_argument("--seed", type=non_negative_int, default=0, help="random scene seed")
+    p.add_argument("--declutter", action="store_true",
+                   help="clear the table one pick at a time, looking again after each attempt "
+                        "(ends when nothing graspable is proposed or after 2 failures in a row)")
     _add_pick_options(p, "out/run")
 
 
@@ -218,6 +250,17 @@ def _run(args: argparse.Namespace) -> int:
                                          scene_timeout_s=args.scene_timeout,
                                          overrides=(args.config, args.sets))
             print(headline(result))
+            print(f"JSON: {args.json}\nsummary: {result['summary']}")
+        elif args.bench == "clutter":
+            from .bench.clutter_bench import headline as clutter_headline
+            from .bench.clutter_bench import run_clutter_benchmark
+
+            result = run_clutter_benchmark(
+                protocol=args.protocol, objects=args.objects, rounds=args.rounds, seeds=args.seed,
+                workers=args.workers, json_path=args.json, out_dir=args.out,
+                progress=not args.no_progress, round_timeout_s=args.round_timeout,
+                overrides=(args.config, args.sets))
+            print(clutter_headline(result))
             print(f"JSON: {args.json}\nsummary: {result['summary']}")
         elif args.bench == "workers":
             from .bench.workers_bench import run_workers_benchmark

@@ -107,6 +107,8 @@ class PickResult:
     object: Optional[str] = None
     reprobed: Optional[bool] = None
     grasp_source: str = ""
+    wall_s: Optional[float] = None   # wall-clock time of the whole pick [s]
+    snapshots: list = field(default_factory=list)   # PNGs written for this pick (failures)
 
 
 @dataclass
@@ -127,6 +129,7 @@ class RunReport:
     warnings: list = field(default_factory=list)
     timings: dict = field(default_factory=dict)
     extra: dict = field(default_factory=dict)
+    end_reason: Optional[str] = None   # with --declutter: why the round of picks ended
 
     @property
     def all_picked(self) -> bool:

@@ -20,6 +20,7 @@ from ..evaluation.pick_evaluator import PickEvaluator
 from ..exceptions import GraspPipelineError
 from ..orchestration import (GeometricGraspSource, GraspSource, PickContext, StageEvent,
                              default_targets, pick_object)
+from ..orchestration.declutter import clear_table
 from ..orchestration.tracks import track_summary
 from ..report.serialize import check_writable, check_writable_dir, write_json
 from ..report.snapshot_recorder import SnapshotRecorder
@@ -89,7 +90,7 @@ def _targets(system: System, settings: Settings, report: RunReport, select, roug
 
 
 def _stages(system: System, settings: Settings, report: RunReport, snapshots, select,
-            scan: bool, place: bool, source: GraspSource) -> None:
+            scan: bool, place: bool, source: GraspSource, declutter: bool = False) -> None:
     if not _rough_view(system, settings, report, snapshots):
         return
     rough_tids = {int(t.tid) for t in system.loop.tracks()}
@@ -98,8 +99,13 @@ def _stages(system: System, settings: Settings, report: RunReport, snapshots, se
     t0 = time.perf_counter()
     ctx = PickContext(system.rt, system.loop, system.action, system.scanner if scan else None,
                       settings, source, place)
-    for xy in _targets(system, settings, report, select, rough_tids):
-        report.picks.append(pick_object(ctx, xy))
+    if declutter and not select:
+        out = clear_table(ctx, system.cell, rough_tids, settings.declutter,
+                          on_attempt=report.picks.append)
+        report.targets_skipped, report.end_reason = out.skipped, out.end_reason
+    else:
+        for xy in _targets(system, settings, report, select, rough_tids):
+            report.picks.append(pick_object(ctx, xy))
     report.timings["picks_s"] = time.perf_counter() - t0
 
 
@@ -134,7 +140,7 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
                  settings: Optional[Settings] = None, video: bool = True, place: bool = True,
                  scan: bool = True, grasp_source: Optional[GraspSource] = None,
                  prepare: Optional[Callable[[System], None]] = None,
-                 objects: str = "builtin") -> RunReport:
+                 objects: str = "builtin", declutter: bool = False) -> RunReport:
     """Run the whole pipeline headless; returns (and writes to ``json_path``) the report.
 
     ``scene``: ``"reference"``, ``"random"``/``"sparse"``, ``"packed"``, ``"pile"`` (with
@@ -142,7 +148,10 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
     ``SceneSpec``;
     ``grasp_source``: where grasps come from (default: the geometric SPEC 3 grasp);
     ``prepare(system)``: called once the system is built, before anything runs (attach your
-    own recorders to ``system.events``, or inject faults in tests)."""
+    own recorders to ``system.events``, or inject faults in tests);
+    ``declutter``: instead of picking every target of the first look, clear the table one
+    pick at a time, looking again after each (:mod:`~grasp_pipeline.orchestration.declutter`;
+    ignored with ``select``)."""
     wall0 = time.perf_counter()
     settings = settings or load_settings(SECTIONS)
     out_dir = Path(out_dir)
@@ -153,11 +162,11 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
     system = build_system(spec, settings)
     recorders = None
     try:
-        if prepare is not None:
-            prepare(system)
         recorders = _recorders(system, out_dir, video, report)
+        if prepare is not None:  # after the built-in recorders: the pick evaluation comes first
+            prepare(system)
         _stages(system, settings, report, recorders[0], select, scan, place,
-                grasp_source or GeometricGraspSource())
+                grasp_source or GeometricGraspSource(), declutter)
         report.status = STATUS_FAILED if report.error else STATUS_COMPLETE
     except KeyboardInterrupt:
         system.world.hold()

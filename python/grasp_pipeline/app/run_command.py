@@ -97,7 +97,8 @@ def run_command(args, scene: str | None = None) -> int:
     with sigterm_as_interrupt():
         report = run_pipeline(scene=scene or args.scene, seed=args.seed, select=select, out_dir=out,
                               json_path=json_path, settings=settings, video=not args.no_video,
-                              scan=not args.no_scan, objects=getattr(args, "objects", "builtin"))
+                              scan=not args.no_scan, objects=getattr(args, "objects", "builtin"),
+                              declutter=getattr(args, "declutter", False))
     data = to_jsonable(report)
     print(summarize(data))
     print(f"report: {json_path}")

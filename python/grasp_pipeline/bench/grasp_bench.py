@@ -31,29 +31,18 @@ import logging
 import math
 import os
 import re
-import sys
 import time
 import traceback
-from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Iterable, Optional
 
 from ..app.run_command import sigterm_as_interrupt
 from ..report.serialize import check_writable, check_writable_dir, write_json
 from ..results import SceneRecord, SceneScanSummary
+from .scheduler import JobSpec, run_jobs, worker_env
 
 log = logging.getLogger(__name__)
 
-#: Environment of the worker processes: one thread each (set before they import numpy).
-SINGLE_THREAD_ENV = {
-    "OMP_NUM_THREADS": "1",
-    "OPENBLAS_NUM_THREADS": "1",
-    "MKL_NUM_THREADS": "1",
-    "NUMEXPR_NUM_THREADS": "1",
-    "VECLIB_MAXIMUM_THREADS": "1",
-    "BLIS_NUM_THREADS": "1",
-    "LP_NUM_THREADS": "1",  # Mesa llvmpipe (software EGL/OSMesa rendering) render threads
-}
 #: Wall-clock limit of one scene [s] (a hung scene is killed and recorded as failed).
 DEFAULT_SCENE_TIMEOUT_S = 1800.0
 #: Object kinds whose footprint defines a yaw (cylinders are round).
@@ -294,177 +283,25 @@ def run_scene(index: int, seed: int, out_dir: str | Path, overrides: tuple = (No
         return scene_record(index, seed, objects, None, error=text, wall_s=time.perf_counter() - t0)
 
 
-def _child_main(conn, index: int, seed: int, out_dir: str, log_level: int,
-                overrides: tuple = (None, ())) -> None:
-    """Entry point of a spawned scene process: run the scene, send the record, exit."""
-    from ..logs import setup_logging
-
-    setup_logging(log_level, tag=f"[scene {index}] ")
-    try:
-        rec = run_scene(index, seed, out_dir, overrides)
-    except BaseException as exc:  # (run_scene catches Exception; this is e.g. SystemExit)
-        rec = scene_record(index, seed, [], None, error=f"{type(exc).__name__}: {exc}")
-    conn.send(rec)
-    conn.close()
+def _run_task(task: tuple) -> dict:
+    """Job function of the scheduler (in the spawned process): ``(index, seed, out_dir,
+    overrides)`` → the scene record."""
+    index, seed, out_dir, overrides = task
+    return run_scene(index, seed, out_dir, overrides)
 
 
-# ------------------------------------------------------------------------------ scheduling
-@contextmanager
-def _child_environment(extra: dict):
-    """Set environment variables for the children spawned inside the block, then restore."""
-    old = {k: os.environ.get(k) for k in extra}
-    os.environ.update(extra)
-    try:
-        yield
-    finally:
-        for k, v in old.items():
-            if v is None:
-                os.environ.pop(k, None)
-            else:
-                os.environ[k] = v
+def _failed_task(task: tuple, error: str, wall_s: float) -> dict:
+    index, seed, _out_dir, overrides = task
+    return _failed_record(index, seed, error, wall_s, overrides)
 
 
-def _worker_env() -> dict:
-    from ..sim.gl_backend import configure_gl  # chooses MUJOCO_GL here (probes once) if unset
-
-    env = dict(SINGLE_THREAD_ENV)
-    env["MUJOCO_GL"] = configure_gl() or os.environ.get("MUJOCO_GL") or "disable"
-    # PYTHONPATH is inherited with the rest of the environment, and the "spawn" start method
-    # also hands the parent's sys.path to the children.
-    return env
+def _postfix(records: list[dict]) -> str:
+    return f"picked {sum(r['picks'] for r in records)}/{sum(r['objects'] for r in records)}"
 
 
-class _SceneScheduler:
-    """The running scene processes of :func:`_run_scenes` and their bookkeeping.
-
-    ``running`` maps each process's sentinel to ``(proc, conn, task, t0)``: the process, the
-    read end of its result pipe, its ``(index, seed, out_dir)`` task and its start time.
-    Finished scenes are appended to ``results`` and counted on the progress bar.
-    """
-
-    def __init__(self, ctx, scene_timeout_s: float, overrides: tuple, bar):
-        self.ctx = ctx
-        self.scene_timeout_s = scene_timeout_s
-        self.overrides = overrides
-        self.bar = bar
-        self.running: dict = {}  # sentinel -> (proc, conn, task, t0)
-        self.results: list[dict] = []
-        self.n_obj = self.n_pick = 0
-        self.level = logging.getLogger().getEffectiveLevel()
-        self.env = _worker_env()
-
-    def start(self, task: tuple[int, int, str]) -> None:
-        """Spawn the process of one scene (with the worker environment)."""
-        index, seed, out_dir = task
-        recv, send = self.ctx.Pipe(duplex=False)
-        proc = self.ctx.Process(target=_child_main,
-                                args=(send, index, seed, out_dir, self.level, self.overrides),
-                                name=f"bench-scene-{index}", daemon=True)
-        with _child_environment(self.env):
-            proc.start()
-        send.close()  # the child holds the only writer: EOF when it dies
-        self.running[proc.sentinel] = (proc, recv, (index, seed, out_dir), time.perf_counter())
-
-    def finish(self, sentinel, rec: dict) -> None:
-        """Retire a running scene with its record."""
-        proc, conn, _task, _t0 = self.running.pop(sentinel)
-        conn.close()
-        proc.join(timeout=10)
-        self.results.append(rec)
-        self.n_obj += rec["objects"]
-        self.n_pick += rec["picks"]
-        self.bar.set_postfix_str(f"picked {self.n_pick}/{self.n_obj}")
-        self.bar.update(1)
-
-    def collect_ready(self) -> None:
-        """Wait until a scene sends its record or exits, or the next deadline passes; retire
-        the scenes that are done (a child that exited without a result is a failed scene)."""
-        from multiprocessing.connection import wait
-
-        now = time.perf_counter()
-        next_deadline = min(t0 + self.scene_timeout_s for (_p, _c, _t, t0) in self.running.values())
-        by_obj = {}
-        for sentinel, (_p, conn, _t, _t0) in self.running.items():
-            by_obj[sentinel] = sentinel
-            by_obj[conn] = sentinel
-        ready = wait(list(by_obj), timeout=max(0.0, next_deadline - now) + 0.05)
-        for obj in ready:
-            sentinel = by_obj[obj]
-            if sentinel not in self.running:
-                continue  # (its conn and sentinel were both ready)
-            rec = self._result_of(sentinel)
-            if rec is not None:
-                self.finish(sentinel, rec)
-
-    def _result_of(self, sentinel) -> Optional[dict]:
-        """The record of a ready scene: what it sent, a failed record when its process exited
-        without one, None when it is still running."""
-        proc, conn, (index, seed, _d), t0 = self.running[sentinel]
-        rec = None
-        try:
-            if conn.poll():
-                rec = conn.recv()
-        except (EOFError, OSError):
-            rec = None
-        if rec is None:
-            proc.join(timeout=30)  # no result: the child closed its end or exited
-            if proc.exitcode is None:
-                return None
-            err = (f"WorkerDied: the scene process exited with code {proc.exitcode} "
-                   f"without a result")
-            log.error("scene %d (seed %d): %s", index, seed, err)
-            rec = _failed_record(index, seed, err, time.perf_counter() - t0, self.overrides)
-        return rec
-
-    def kill_overdue(self) -> None:
-        """Kill the scenes that exceeded ``scene_timeout_s`` and record them as failed."""
-        now = time.perf_counter()
-        for sentinel, (proc, conn, (index, seed, _d), t0) in list(self.running.items()):
-            if now - t0 > self.scene_timeout_s:
-                proc.kill()
-                err = f"SceneTimeout: the scene took longer than {self.scene_timeout_s:.0f} s wall time"
-                log.error("scene %d (seed %d): %s", index, seed, err)
-                self.finish(sentinel, _failed_record(index, seed, err, now - t0, self.overrides))
-
-    def kill_all(self) -> None:
-        """Kill whatever is still running (on the way out, also after an exception)."""
-        for proc, conn, _task, _t0 in self.running.values():
-            proc.kill()
-            proc.join(timeout=10)
-            conn.close()
-
-
-def _run_scenes(tasks: list[tuple[int, int, str]], workers: int, scene_timeout_s: float,
-                progress: bool, overrides: tuple = (None, ())) -> tuple[list[dict], bool]:
-    """Run ``(index, seed, out_dir)`` tasks in spawned processes, ``workers`` at a time.
-    Returns (records, interrupted): on Ctrl-C / SIGTERM the running scenes are stopped and
-    the records finished so far are returned."""
-    import multiprocessing as mp
-
-    from tqdm import tqdm
-
-    ctx = mp.get_context("spawn")
-    pending = list(tasks)
-    bar = tqdm(total=len(tasks), unit="scene", desc="bench grasp", disable=not progress,
-               file=sys.stderr, dynamic_ncols=True)
-    sched = _SceneScheduler(ctx, scene_timeout_s, overrides, bar)
-    interrupted = False
-    try:
-        while pending or sched.running:
-            while pending and len(sched.running) < workers:
-                sched.start(pending.pop(0))
-            sched.collect_ready()
-            sched.kill_overdue()
-    except KeyboardInterrupt:
-        interrupted = True
-        log.error("interrupted: stopping the running scenes; writing the %d finished ones",
-                  len(sched.results))
-    finally:
-        sched.kill_all()
-        bar.close()
-    results = sched.results
-    results.sort(key=lambda r: r["index"])
-    return results, interrupted
+#: How the scheduler runs the scenes of this benchmark.
+SCENE_JOBS = JobSpec(run_fn=_run_task, failed_fn=_failed_task, postfix_fn=_postfix, desc="bench grasp",
+                     tag="scene")
 
 
 def _failed_record(index: int, seed: int, error: str, wall_s: float,
@@ -707,9 +544,10 @@ def run_grasp_benchmark(scenes: int, seed: int = 0, workers: int = 1, json_path:
         log.warning("%d workers on %s cores: scenes will compete for CPU", workers_used, os.cpu_count())
     t0 = time.perf_counter()
     with sigterm_as_interrupt():
-        records, interrupted = _run_scenes(tasks, workers_used, scene_timeout_s, progress, overrides)
+        records, interrupted = run_jobs([(*t, overrides) for t in tasks], SCENE_JOBS, workers_used,
+                                        scene_timeout_s, progress)
     wall = time.perf_counter() - t0
-    env = _worker_env()
+    env = worker_env()
     result = aggregate(records, seed, workers_used, wall,
                        extra={"workers_requested": int(workers), "cpu_count": os.cpu_count(),
                               "mujoco_gl": env["MUJOCO_GL"],

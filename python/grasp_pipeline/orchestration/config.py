@@ -80,3 +80,17 @@ class GraspConfig:
         if not 0 < self.close_command_fraction <= 1:
             raise ConfigError("GraspConfig.close_command_fraction: expected (0, 1]")
 
+
+
+@dataclass(frozen=True)
+class DeclutterConfig:
+    """Clearing a table (``run --declutter``, ``bench clutter``): the round rules of the
+    VGN/GIGA benchmarks plus our choice of the next target."""
+
+    max_consecutive_failures: int = 2
+    max_attempts: int = 20
+    failed_anchor_radius_m: float = 0.03
+
+    def validate(self) -> None:
+        _positive(self, "max_consecutive_failures", "max_attempts")
+        _positive(self, "failed_anchor_radius_m", allow_zero=True)

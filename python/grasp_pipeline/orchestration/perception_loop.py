@@ -99,6 +99,13 @@ class PerceptionLoop:
     def tracks(self) -> list:
         return self.session.tracks()
 
+    def forget_tracks(self) -> None:
+        """Forget every track but keep the plane lock and the liveness state: the next
+        frames describe the table anew (after a pick attempt the objects may have moved).
+        Drops the selection too (its anchor referred to the old tracks)."""
+        self.session.tracker.reset()
+        self.selector.clear()
+
     def last_frame_time_s(self) -> Optional[float]:
         return None if self.latest is None else self.latest.time_s
 

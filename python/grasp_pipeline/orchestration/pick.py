@@ -18,6 +18,7 @@ result before it is reported).
 from __future__ import annotations
 
 import logging
+import time
 from dataclasses import dataclass
 from typing import Optional
 
@@ -156,6 +157,7 @@ def return_to_start(ctx: PickContext) -> None:
 
 def pick_object(ctx: PickContext, xy) -> PickResult:
     """Pick (and place) the object at ``xy`` [m, world]; see the module doc."""
+    wall0 = time.perf_counter()
     return_to_start(ctx)
     ctx.rt.spin(ctx.settings.scan.settle_view_s)
     row = PickResult(anchor=[float(xy[0]), float(xy[1])], grasp_source=ctx.source.name)
@@ -170,6 +172,7 @@ def pick_object(ctx: PickContext, xy) -> PickResult:
         row.message = out.message or "picked"
         row.stages, row.stall_gap_m, row.width_m = out.stages, out.stall_gap_m, out.width_m
         row.placed = bool(out.placed)
+    row.wall_s = time.perf_counter() - wall0
     ctx.rt.events.publish(PickEvent(float(ctx.rt.world.time_s), row,
                                     None if out is None else out.release_time_s))
     return row

@@ -26,6 +26,7 @@ from .. import _core
 from ..exceptions import GraspPipelineError
 from ..results import ProbeResult, ScanOutcome
 from .config import ScanConfig
+from .events import StageEvent
 from .runtime import Runtime, Task
 from .scene_model import snapshot
 
@@ -154,6 +155,8 @@ class ActiveScan:
     def _dwell(self, i: int, centre: np.ndarray, probe: ProbeResult):
         world, cfg = self.rt.world, self.config
         arrival_s = world.time_s
+        self.rt.events.publish(StageEvent(float(arrival_s), "probe_arrived",
+                                          f"{i} {centre[0]:.6f} {centre[1]:.6f}", perception=self.loop))
         frames0 = self.loop.frames
         t_end = arrival_s + cfg.dwell_timeout_s
         while self.loop.frames - frames0 < cfg.dwell_frames:

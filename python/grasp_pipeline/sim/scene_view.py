@@ -16,20 +16,26 @@ VIEW_LOOKAT_M = (0.35, 0.2, 0.3)
 VIEW_DISTANCE_M = 2.1
 VIEW_AZIMUTH_DEG = 35.0   # from the robot's right-front: arm, table and tray in view
 VIEW_ELEVATION_DEG = -28.0
+#: A close view of the table's clutter square, from the far side of the table (failure PNGs).
+TABLE_VIEW = {"lookat_m": (0.52, 0.0, 0.22), "distance_m": 0.55, "azimuth_deg": 200.0,
+              "elevation_deg": -50.0}
 
 
 class SceneView:
     """``render()`` → (H, W, 3) uint8 image of the world now."""
 
-    def __init__(self, world, width_px: int = 640, height_px: int = 480) -> None:
+    def __init__(self, world, width_px: int = 640, height_px: int = 480,
+                 lookat_m=VIEW_LOOKAT_M, distance_m: float = VIEW_DISTANCE_M,
+                 azimuth_deg: float = VIEW_AZIMUTH_DEG,
+                 elevation_deg: float = VIEW_ELEVATION_DEG) -> None:
         self.world = world
         self.renderer = new_renderer(world.model, height_px, width_px)
         cam = mujoco.MjvCamera()
         cam.type = mujoco.mjtCamera.mjCAMERA_FREE
-        cam.lookat[:] = VIEW_LOOKAT_M
-        cam.distance = VIEW_DISTANCE_M
-        cam.azimuth = VIEW_AZIMUTH_DEG
-        cam.elevation = VIEW_ELEVATION_DEG
+        cam.lookat[:] = lookat_m
+        cam.distance = distance_m
+        cam.azimuth = azimuth_deg
+        cam.elevation = elevation_deg
         self.cam = cam
 
     def render(self) -> np.ndarray:

@@ -1,0 +1,247 @@
+"""Clutter benchmark: the VGN/GIGA packed and pile protocols with the whole product.
+
+``grasp-pipeline bench clutter --protocol packed|pile|sparse --objects builtin|DIR --rounds N
+--seed K [K ...] --workers W --json PATH --out DIR``
+
+Each round (:mod:`.clutter_round`) builds a scene, takes the rough view, scans, then picks one
+object at a time into the tray, looking again after each attempt; it ends when the table is
+clear (ground truth), when no graspable object is proposed, or after 2 consecutive failed
+attempts (VGN's rule; ``declutter.max_consecutive_failures``). Rounds run in spawned worker
+processes (:mod:`.scheduler`); round ``i`` of seed ``K`` uses the scene seed
+``scene_seed(K, i)``, so one round is reproduced with ``grasp-pipeline run --scene <protocol>
+--seed <round seed> --objects ... --declutter``.
+
+Metrics as VGN/GIGA define them: **grasp success rate** GSR = successful picks / attempts and
+**declutter rate** DR = successful picks / objects placed, per seed, pooled over all rounds,
+and mean ± std over the seeds (population std). A pick is successful when the object ends in
+the tray (ground truth). Every attempt counts, also one that never moved the arm (a SELECT or
+PRE_GRASP failure: the product chose that object and could not pick it);
+``gsr_executed`` counts only attempts whose arm reached APPROACH. Also: failures by stage and
+reason, success by object model, time per attempt and per round, segmentation quality at the
+scan (:mod:`grasp_pipeline.evaluation.segmentation`), how rounds ended.
+
+Deterministic for a seed (rounds sorted; only the fields in :data:`TIMING_KEYS` differ).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import os
+import time
+from pathlib import Path
+from typing import Optional
+
+from ..app.run_command import sigterm_as_interrupt
+from ..exceptions import InputError
+from ..report.serialize import check_writable, check_writable_dir, write_json
+from .clutter_round import run_round
+from .grasp_bench import STAGE_ORDER, scene_seed, scene_settings, stats
+from .scheduler import JobSpec, run_jobs, worker_env
+
+log = logging.getLogger(__name__)
+
+PROTOCOLS = ("packed", "pile", "sparse")
+#: Fields that hold timings — the only ones allowed to differ between runs of one seed.
+TIMING_KEYS = ("wall_s", "wall_time_s", "time_per_attempt_s", "time_per_round_s",
+               "rounds_per_hour", "timings", "snapshots")
+#: Stages at or after which the arm moved towards the object.
+EXECUTED_STAGES = ("APPROACH", "CLOSE", "LIFT", "DONE", "PLACE", "VERIFY")
+
+
+def _fraction(num: int, den: int) -> Optional[float]:
+    return None if den == 0 else round(num / den, 4)
+
+
+def _counts(rows: list[dict]) -> dict:
+    """Rounds, objects placed, attempts, successes, GSR, DR of some round records."""
+    placed = sum(r["objects_placed"] for r in rows)
+    attempts = [a for r in rows for a in r["attempts"]]
+    ok = sum(a["success"] for a in attempts)
+    executed = [a for a in attempts if a["success"] or a.get("stage") in EXECUTED_STAGES]
+    return {"rounds": len(rows), "objects_placed": placed, "attempts": len(attempts),
+            "successes": ok, "gsr": _fraction(ok, len(attempts)), "dr": _fraction(ok, placed),
+            "attempts_executed": len(executed), "gsr_executed": _fraction(ok, len(executed))}
+
+
+def _mean_std(values: list) -> dict:
+    v = [float(x) for x in values if x is not None]
+    if not v:
+        return {"mean": None, "std": None, "n": 0}
+    m = sum(v) / len(v)
+    return {"mean": round(m, 4), "std": round(math.sqrt(sum((x - m) ** 2 for x in v) / len(v)), 4),
+            "n": len(v)}
+
+
+def _failures_by_stage(attempts: list[dict]) -> dict:
+    out: dict = {}
+    for a in attempts:
+        if a["success"]:
+            continue
+        f = out.setdefault(a["stage"], {"count": 0, "reasons": {}})
+        f["count"] += 1
+        f["reasons"][a["reason"]] = f["reasons"].get(a["reason"], 0) + 1
+    order = {s: i for i, s in enumerate(STAGE_ORDER)}
+    return {s: {"count": out[s]["count"],
+                "reasons": dict(sorted(out[s]["reasons"].items(), key=lambda kv: (-kv[1], kv[0])))}
+            for s in sorted(out, key=lambda s: (order.get(s, len(order)), s))}
+
+
+def _success_by_object(rows: list[dict]) -> dict:
+    """Per object model: how many were placed, attempted, picked."""
+    out: dict = {}
+    for r in rows:
+        for model in r["models"].values():
+            out.setdefault(model, {"placed": 0, "attempts": 0, "picked": 0})["placed"] += 1
+        for a in r["attempts"]:
+            g = out.setdefault(a["model"] or "unknown", {"placed": 0, "attempts": 0, "picked": 0})
+            g["attempts"] += 1
+            g["picked"] += int(a["success"])
+    for g in out.values():
+        g["success_rate"] = _fraction(g["picked"], g["attempts"])
+    return dict(sorted(out.items()))
+
+
+def _segmentation(rows: list[dict]) -> dict:
+    from ..evaluation.segmentation import ObjectSegmentation, summarize
+
+    scores = [ObjectSegmentation(**s) for r in rows for s in r["segmentation"]]
+    return summarize(scores, sum(r["objects_placed"] for r in rows))
+
+
+def _end_reasons(rows: list[dict]) -> dict:
+    out: dict = {}
+    for r in rows:
+        key = r["end_reason"].split(" (")[0] or "unspecified"
+        out[key] = out.get(key, 0) + 1
+    return dict(sorted(out.items(), key=lambda kv: (-kv[1], kv[0])))
+
+
+def aggregate(rows: list[dict], protocol: str, objects: str, seeds: list[int], workers: int,
+              wall_time_s: float) -> dict:
+    """The benchmark JSON from the round records (a pure function)."""
+    rows = sorted(rows, key=lambda r: r["index"])
+    per_seed = [{"seed": s, **_counts([r for r in rows if r["bench_seed"] == s])} for s in seeds]
+    attempts = [a for r in rows for a in r["attempts"]]
+    out = {"benchmark": "clutter", "protocol": protocol, "objects": objects,
+           "seed_list": list(seeds), **_counts(rows),
+           "seeds": per_seed,
+           "mean": {k: _mean_std([s[k] for s in per_seed])["mean"] for k in ("gsr", "dr")},
+           "std": {k: _mean_std([s[k] for s in per_seed])["std"] for k in ("gsr", "dr")},
+           "rounds_failed": sum(1 for r in rows if r.get("error")),
+           "end_reasons": _end_reasons(rows),
+           "failures_by_stage": _failures_by_stage(attempts),
+           "success_by_object": _success_by_object(rows),
+           "segmentation": _segmentation(rows),
+           "time_per_attempt_s": stats(a["wall_s"] for a in attempts),
+           "time_per_round_s": stats(r["timings"].get("wall_s") for r in rows),
+           "wall_time_s": round(float(wall_time_s), 3),
+           "rounds_per_hour": None if wall_time_s <= 0 else round(3600.0 * len(rows) / wall_time_s, 3),
+           "workers": int(workers), "round_seed_rule": "scene_seed(seed, round) as bench grasp"}
+    out["round_rows"] = rows
+    return out
+
+
+def _failed_round(task: tuple, error: str, wall_s: float) -> dict:
+    """The record of a round whose process died or timed out (its objects still count)."""
+    from .clutter_round import round_record, round_scene
+
+    t = task[1]
+    try:
+        spec = round_scene(t["protocol"], t["seed"], t["objects"], scene_settings(t["overrides"]))
+    except Exception:  # the scene itself cannot be generated
+        spec = None
+    public = {k: v for k, v in t.items() if k not in ("overrides", "out_dir")}
+    return round_record(public, spec, None, None, error, wall_s)
+
+
+def _run_task(task: tuple) -> dict:
+    return run_round(task[1])
+
+
+def _postfix(records: list[dict]) -> str:
+    ok = sum(r["successes"] for r in records)
+    return f"GSR {ok}/{sum(len(r['attempts']) for r in records)}, DR {ok}/{sum(r['objects_placed'] for r in records)}"
+
+
+ROUND_JOBS = JobSpec(run_fn=_run_task, failed_fn=_failed_round, postfix_fn=_postfix,
+                     desc="bench clutter", tag="round")
+
+
+def _tasks(protocol: str, objects: str, rounds: int, seeds: list[int], out: Path,
+           overrides: tuple) -> list[tuple]:
+    tasks, index = [], 0
+    for s in seeds:
+        for i in range(rounds):
+            seed = scene_seed(s, i)
+            task = {"index": index, "bench_seed": int(s), "round": i, "seed": seed,
+                    "protocol": protocol, "objects": str(objects), "overrides": overrides,
+                    "out_dir": str(out / "rounds" / f"seed_{s}_round_{i:03d}_scene_{seed}")}
+            tasks.append((index, task))
+            index += 1
+    return tasks
+
+
+def _check_inputs(protocol: str, objects: str, rounds: int, seeds: list[int], workers: int,
+                  overrides: tuple) -> None:
+    if protocol not in PROTOCOLS:
+        raise InputError(f"protocol must be one of {PROTOCOLS}, got {protocol!r}")
+    if rounds < 1 or workers < 1 or not seeds:
+        raise InputError("rounds and workers must be >= 1 and at least one seed given")
+    settings = scene_settings(overrides)  # bad overrides fail here, before any round starts
+    if protocol != "sparse":
+        from ..objects.catalog import object_set
+
+        object_set(objects)  # a bad object folder fails here (MeshError naming the file)
+    del settings
+
+
+def run_clutter_benchmark(protocol: str = "packed", objects: str = "builtin", rounds: int = 20,
+                          seeds: tuple = (0,), workers: int = 1, json_path=None,
+                          out_dir: str | Path = "out/bench_clutter", progress: bool = True,
+                          round_timeout_s: float = 3600.0, overrides: tuple = (None, ())) -> dict:
+    """Run the benchmark; write the JSON (``json_path``), ``OUT/summary.md`` and plots."""
+    seeds = [int(s) for s in seeds]
+    _check_inputs(protocol, objects, rounds, seeds, workers, overrides)
+    out = check_writable_dir(Path(out_dir), "output folder (--out)")
+    if json_path is not None:
+        check_writable(json_path, "benchmark JSON (--json)")
+    tasks = _tasks(protocol, objects, rounds, seeds, out, overrides)
+    t0 = time.perf_counter()
+    with sigterm_as_interrupt():
+        rows, interrupted = run_jobs(tasks, ROUND_JOBS, min(workers, len(tasks)), round_timeout_s, progress)
+    result = aggregate(rows, protocol, str(objects), seeds, min(workers, len(tasks)),
+                       time.perf_counter() - t0)
+    result.update(status="interrupted" if interrupted else "complete", rounds_requested=len(tasks),
+                  cpu_count=os.cpu_count(), mujoco_gl=worker_env()["MUJOCO_GL"], out_dir=str(out))
+    from .clutter_plots import write_plots, write_summary
+
+    result["plots"] = {k: str(Path(v).relative_to(out)) for k, v in write_plots(result, out).items()}
+    result["summary"] = str(write_summary(result, out / "summary.md", json_path=json_path))
+    result["round_rows"] = result.pop("round_rows")  # (the long part last)
+    if json_path is not None:
+        write_json(json_path, result)
+    if interrupted:
+        raise KeyboardInterrupt(f"bench clutter interrupted after {len(rows)} of {len(tasks)} rounds "
+                                f"(written to {json_path})")
+    return result
+
+
+def headline(result: dict) -> str:
+    """A few lines for the terminal."""
+    pct = lambda v: "n/a" if v is None else f"{100 * v:.1f} %"  # noqa: E731
+    seg = result["segmentation"]
+    lines = [
+        f"{result['protocol']} / {result['objects']}: {result['rounds']} rounds, "
+        f"{result['objects_placed']} objects, {result['attempts']} attempts, {result['successes']} picked",
+        f"GSR {pct(result['gsr'])} (mean {pct(result['mean']['gsr'])} +- {pct(result['std']['gsr'])} over "
+        f"{len(result['seeds'])} seed(s)), DR {pct(result['dr'])}",
+        f"segmentation at the scan: {pct(seg['correct_rate'])} correct, {seg['merged']} merged, "
+        f"{seg['split']} split, {seg['missed']} missed",
+        f"time per attempt: median {result['time_per_attempt_s']['median']} s; per round: median "
+        f"{result['time_per_round_s']['median']} s; wall {result['wall_time_s']:.0f} s",
+        f"rounds ended: {', '.join(f'{k} x{v}' for k, v in result['end_reasons'].items())}",
+    ]
+    for stage, f in result["failures_by_stage"].items():
+        lines.append(f"  failed at {stage}: {f['count']} ({', '.join(f'{k} x{v}' for k, v in f['reasons'].items())})")
+    return "\n".join(lines)

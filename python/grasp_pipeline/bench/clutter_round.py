@@ -1,0 +1,156 @@
+"""One round of the clutter benchmark, in the process that runs it (evaluation code).
+
+A round is one ``run_pipeline(scene=<packed|pile|sparse scene>, declutter=True)``: rough view,
+scan, then one pick at a time with a fresh look after each attempt
+(:mod:`grasp_pipeline.orchestration.declutter`). Around it, subscribers score what the robot
+cannot know: which true object each attempt was aimed at and whether it ended in the tray
+(:class:`~grasp_pipeline.evaluation.pick_evaluator.PickEvaluator`), the segmentation of the
+scan's probe frames (:class:`~grasp_pipeline.evaluation.segmentation.ScanSegmentationRecorder`)
+and PNGs of every failed attempt. Afterwards the ground truth says whether the table is clear.
+
+:func:`run_round` never raises: an exception becomes the record's ``error``.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+import traceback
+from pathlib import Path
+from typing import Optional
+
+from .grasp_bench import exception_category, reason_category, scene_settings
+
+log = logging.getLogger(__name__)
+
+#: Why a round ended, when the ground truth finds the table clear.
+END_CLEARED = "table cleared"
+#: A round whose run raised or failed.
+END_ERROR = "error"
+
+
+def round_scene(protocol: str, seed: int, objects: str, settings):
+    """The round's scene: ``packed``/``pile`` of the object set ``objects``, or ``sparse``
+    (the random primitive scenes)."""
+    from ..app.sim_system import make_scene
+
+    return make_scene("random" if protocol == "sparse" else protocol, seed, settings, objects)
+
+
+def _model_name(obj) -> str:
+    """What "success by object" groups by: the mesh model's name (``mug_2``), else the kind."""
+    return getattr(obj.mesh, "name", None) or obj.kind
+
+
+def objects_on_table(world) -> int:
+    """How many objects still rest over the table top (ground truth): not in the tray, not
+    fallen to the floor."""
+    from ..sim.ground_truth import object_truths
+
+    cell = world.work_cell
+    top_z = float(cell.table.center[2] + 0.5 * cell.table.extents[2])
+    n = 0
+    for t in object_truths(world):
+        p = t.position_m
+        if cell.pick_target_note(p[:2], 0.0) is None and p[2] > top_z - 0.01:
+            n += 1
+    return n
+
+
+class _Observers:
+    """The round's evaluation subscribers, attached through ``run_pipeline(prepare=...)``."""
+
+    def __init__(self, out_dir: Path, band_m: float) -> None:
+        self.out_dir, self.band_m = out_dir, band_m
+        self.system = None
+        self.segmentation = None
+        self.failures = None
+        self.view = None
+
+    def __call__(self, system) -> None:
+        from ..evaluation.segmentation import ScanSegmentationRecorder
+        from ..report.failure_recorder import FailureSnapshotRecorder
+
+        self.system = system
+        self.segmentation = ScanSegmentationRecorder(system.world, self.band_m).attach(system.events)
+        self.failures = FailureSnapshotRecorder(self.out_dir / "failures", self._render()).attach(system.events)
+
+    def _render(self):
+        from ..sim.exceptions import RenderUnavailable
+        from ..sim.scene_view import TABLE_VIEW, SceneView
+
+        try:
+            self.view = SceneView(self.system.world, **TABLE_VIEW)
+        except RenderUnavailable as exc:
+            log.warning("no failure scene PNGs: %s", exc)
+            return None
+        return self.view.render
+
+    def close(self) -> None:
+        if self.view is not None:
+            self.view.close()
+
+
+def _attempt_row(p: dict, models: dict) -> dict:
+    ok = bool(p.get("success") and p.get("placed") and not p.get("failed_stage"))
+    row = {"object": p.get("object"), "model": models.get(p.get("object")),
+           "anchor": [round(float(x), 4) for x in p.get("anchor") or []], "success": ok,
+           "reported_success": bool(p.get("success")), "wall_s": p.get("wall_s"),
+           "snapshots": list(p.get("snapshots") or [])}
+    if not ok:
+        stage = p.get("failed_stage") or ("VERIFY" if p.get("success") else "UNKNOWN")
+        msg = str(p.get("message") or "")
+        if stage == "VERIFY":
+            msg = "reported success but the object is not in the tray"
+        row.update(stage=stage, reason=reason_category(msg), message=msg)
+    return row
+
+
+def round_record(task: dict, spec, report: Optional[dict], obs: Optional[_Observers],
+                 error: Optional[str], wall_s: float) -> dict:
+    """The compact per-round record (see :mod:`.clutter_bench` for the fields)."""
+    report = report or {}
+    models = {o.name: _model_name(o) for o in spec.objects} if spec is not None else {}
+    attempts = [_attempt_row(p, models) for p in report.get("picks") or []]
+    seg = [] if obs is None or obs.segmentation is None else \
+        [s.to_dict() for s in obs.segmentation.best.values()]
+    left = None if obs is None or obs.system is None else objects_on_table(obs.system.world)
+    end = report.get("end_reason") or ""
+    if error or report.get("error"):
+        end = END_ERROR
+    elif left == 0:
+        end = END_CLEARED
+    timings = {k: float(v) for k, v in (report.get("timings") or {}).items()}
+    timings["wall_s"] = float(wall_s)
+    return {**task, "objects_placed": len(models), "models": models,
+            "attempts": attempts, "successes": sum(a["success"] for a in attempts),
+            "end_reason": end, "objects_left": left, "segmentation": seg,
+            "error": error or report.get("error"),
+            "error_category": exception_category(error) if error else None,
+            "timings": timings}
+
+
+def run_round(task: dict) -> dict:
+    """Run one round in this process (``task``: index, bench_seed, seed, protocol, objects,
+    out_dir, overrides); never raises."""
+    from ..app.run import run_pipeline
+
+    t0 = time.perf_counter()
+    spec = obs = report = None
+    error = None
+    try:
+        settings = scene_settings(task["overrides"])
+        spec = round_scene(task["protocol"], task["seed"], task["objects"], settings)
+        out = Path(task["out_dir"])
+        obs = _Observers(out, settings.scene_filter.band)
+        report = run_pipeline(scene=spec, seed=task["seed"], out_dir=out, json_path=out / "report.json",
+                              settings=settings, video=False, declutter=True, prepare=obs).to_dict()
+    except Exception as exc:  # any failure of the round is a result, not a crash
+        error = f"{type(exc).__name__}: {exc}"
+        log.error("round %d (seed %d) raised %s\n%s", task["index"], task["seed"], error,
+                  traceback.format_exc())
+    finally:
+        if obs is not None:
+            obs.close()
+    public = {k: v for k, v in task.items() if k not in ("overrides", "out_dir")}
+    return round_record(public, spec, report, obs, error, time.perf_counter() - t0)

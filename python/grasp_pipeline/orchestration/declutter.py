@@ -1,0 +1,102 @@
+"""Clearing a table (ours, in the round rules of the VGN/GIGA benchmarks).
+
+After the rough view and the active scan, :func:`clear_table` repeats: choose one target among
+the perceived objects (:func:`~.targets.default_targets`, with objects near an earlier failed
+attempt tried last), attempt one pick (:func:`~.pick.pick_object`, which measures the target
+from above again when its view is not NADIR), then **look again** — forget the tracks, since
+a grasp may have moved the neighbours, and take a fresh rough view from the start pose.
+It ends when no graspable object is proposed, after ``max_consecutive_failures`` failed
+attempts in a row (VGN's rule: 2), or after ``max_attempts``.
+
+Only the robot's own perception decides; ground truth (e.g. "the table is clear") is for the
+benchmark that scores the round.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, field
+from typing import Callable, Optional
+
+import numpy as np
+
+from .config import DeclutterConfig
+from .events import StageEvent
+from .pick import PickContext, pick_object, return_to_start
+from .targets import default_targets
+
+log = logging.getLogger("grasp_pipeline.declutter")
+
+#: Why a round ended.
+END_NO_TARGET = "no graspable object proposed"
+END_FAILURES = "consecutive failed attempts"
+END_ATTEMPTS = "attempt limit"
+
+
+@dataclass
+class DeclutterOutcome:
+    """The attempts of one round (:class:`~grasp_pipeline.results.PickResult`) and why it
+    ended; ``skipped`` lists the tracks of the last look that were not targets."""
+
+    attempts: list = field(default_factory=list)
+    end_reason: str = ""
+    skipped: list = field(default_factory=list)
+
+
+def order_targets(targets: list, failed_anchors: list, radius_m: float) -> list:
+    """``targets`` (nearest the base first) with those within ``radius_m`` of a failed
+    attempt's anchor moved to the end (their order kept)."""
+    def failed_near(xy) -> bool:
+        return any(float(np.hypot(xy[0] - a[0], xy[1] - a[1])) <= radius_m for a in failed_anchors)
+
+    return [t for t in targets if not failed_near(t)] + [t for t in targets if failed_near(t)]
+
+
+def look_again(ctx: PickContext) -> set:
+    """Back to the start joints if needed, forget the tracks, a fresh rough view; returns the
+    tids of that view."""
+    return_to_start(ctx)
+    ctx.loop.forget_tracks()
+    ctx.action.picked_at.clear()
+    ctx.rt.events.publish(StageEvent(float(ctx.rt.world.time_s), "look_again", perception=ctx.loop))
+    ctx.rt.spin(ctx.settings.scan.rough_view_s)
+    return {int(t.tid) for t in ctx.loop.tracks()}
+
+
+def _ended(outcome: DeclutterOutcome, consecutive: int, cfg: DeclutterConfig) -> bool:
+    if consecutive >= cfg.max_consecutive_failures:
+        outcome.end_reason = f"{END_FAILURES} ({consecutive})"
+    elif len(outcome.attempts) >= cfg.max_attempts:
+        outcome.end_reason = f"{END_ATTEMPTS} ({cfg.max_attempts})"
+    return bool(outcome.end_reason)
+
+
+def clear_table(ctx: PickContext, cell, rough_tids: set, config: DeclutterConfig,
+                on_attempt: Optional[Callable] = None) -> DeclutterOutcome:
+    """Pick objects one at a time until the rules end the round (see the module doc).
+
+    ``cell``: the work cell (table top, tray); ``rough_tids``: the tracks of the first rough
+    view; ``on_attempt(row)``: called after each attempt (e.g. a benchmark's bookkeeping)."""
+    out, failed_anchors, consecutive = DeclutterOutcome(), [], 0
+    margin = ctx.settings.grasp.target_fixture_margin_m
+    while True:
+        targets, out.skipped = default_targets(ctx.loop.tracks(), cell, margin, rough_tids)
+        targets = order_targets(targets, failed_anchors, config.failed_anchor_radius_m)
+        if not targets:
+            out.end_reason = END_NO_TARGET
+            break
+        log.info("attempt %d: %d target(s); picking at (%.3f, %.3f)", len(out.attempts) + 1,
+                 len(targets), *targets[0])
+        row = pick_object(ctx, targets[0])
+        out.attempts.append(row)
+        ok = bool(row.success and not row.failed_stage)  # the robot's own judgement
+        consecutive = 0 if ok else consecutive + 1
+        if not ok:
+            failed_anchors.append(targets[0])
+        if on_attempt is not None:
+            on_attempt(row)
+        if _ended(out, consecutive, config):
+            break
+        rough_tids = look_again(ctx)
+    log.info("round ended after %d attempt(s): %s", len(out.attempts), out.end_reason)
+    return out

@@ -1,0 +1,115 @@
+"""``grasp-pipeline bench clutter``: one small round of each protocol, as a user runs it (the
+installed console script in a clean environment; real MuJoCo, PCL, OMPL, TOPP-RA), the three
+protocols side by side; plus the metrics' arithmetic on synthetic round records."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from grasp_pipeline.bench import clutter_bench as cb
+
+EXE = Path(sys.executable).parent / "grasp-pipeline"
+SMALL = {"packed": ["--set", "clutter.objects_per_scene=2"],
+         "pile": ["--set", "clutter.objects_per_scene=2"],
+         "sparse": ["--set", "sim.object_count=[2,2]"]}
+REQUIRED = ("protocol", "rounds", "objects_placed", "attempts", "successes", "gsr", "dr", "seeds",
+            "mean", "std", "failures_by_stage", "segmentation", "time_per_attempt_s",
+            "time_per_round_s", "success_by_object", "end_reasons", "round_rows")
+
+
+@pytest.fixture(scope="module")
+def runs(tmp_path_factory):
+    """The three protocols' 1-round benchmarks, started together (2 cores)."""
+    assert EXE.exists(), f"{EXE} is missing: install the package first (make setup)"
+    procs = {}
+    for protocol, extra in SMALL.items():
+        d = tmp_path_factory.mktemp(f"clutter_{protocol}")
+        env = {"PATH": f"{EXE.parent}:/usr/bin:/bin", "HOME": str(d), "LANG": "C.UTF-8"}
+        args = [str(EXE), "--log-level", "WARNING", "bench", "clutter", "--protocol", protocol,
+                "--rounds", "1", "--seed", "5", "--workers", "1", "--json", "b.json", "--out", "out",
+                "--no-progress", *extra]
+        procs[protocol] = (d, subprocess.Popen(args, cwd=d, env=env, stdout=subprocess.PIPE,
+                                               stderr=subprocess.PIPE, text=True, stdin=subprocess.DEVNULL))
+    out = {}
+    for protocol, (d, p) in procs.items():
+        stdout, stderr = p.communicate(timeout=1200)
+        out[protocol] = (d, p.returncode, stdout, stderr)
+    return out
+
+
+def _strict(path: Path) -> dict:
+    def refuse(c):
+        raise ValueError(f"{path} holds {c}")
+    return json.loads(path.read_text(), parse_constant=refuse)
+
+
+@pytest.mark.parametrize("protocol", list(SMALL))
+def test_one_round_gives_the_vgn_metrics(runs, protocol):
+    d, rc, stdout, stderr = runs[protocol]
+    assert rc == 0 and "Traceback" not in stderr, stderr[-3000:]
+    res = _strict(d / "b.json")
+    for key in REQUIRED:
+        assert key in res, key
+    assert res["protocol"] == protocol and res["rounds"] == 1 and res["status"] == "complete"
+    assert res["objects_placed"] >= 1 and 1 <= res["attempts"] <= 20
+    for key in ("gsr", "dr"):
+        assert 0.0 <= res[key] <= 1.0
+        assert res["seeds"][0][key] == res[key] and res["mean"][key] == res[key] and res["std"][key] == 0.0
+    assert res["gsr"] == res["successes"] / res["attempts"]
+    assert res["dr"] == res["successes"] / res["objects_placed"]
+    row = res["round_rows"][0]
+    assert row["end_reason"] and row["error"] is None
+    assert len(row["attempts"]) == res["attempts"]
+    assert sum(f["count"] for f in res["failures_by_stage"].values()) == res["attempts"] - res["successes"]
+    seg = res["segmentation"]
+    assert seg["objects"] == res["objects_placed"] and 0.0 <= seg["correct_rate"] <= 1.0
+    assert seg["scored"] >= 1  # the scan's probe frames were scored against the pixel labels
+    assert (d / "out" / "summary.md").read_text().count("GIGA") >= (1 if protocol != "sparse" else 0)
+    for png in ("rates.png", "objects.png", "failures.png"):
+        assert (d / "out" / png).stat().st_size > 5_000
+    for a in row["attempts"]:  # every failed attempt has its PNGs
+        assert a["success"] or all(Path(p).exists() for p in a["snapshots"]) and a["snapshots"]
+    assert f"GSR" in stdout
+
+
+def _round(index, seed, placed, outcomes, model="mug"):
+    attempts = [{"object": f"o{k}", "model": model, "success": ok, "wall_s": 10.0, "snapshots": [],
+                 **({} if ok else {"stage": stage, "reason": "r", "message": "m"})}
+                for k, (ok, stage) in enumerate(outcomes)]
+    return {"index": index, "bench_seed": seed, "seed": 100 + index, "objects_placed": placed,
+            "models": {f"o{k}": model for k in range(placed)}, "attempts": attempts,
+            "successes": sum(ok for ok, _ in outcomes), "end_reason": "table cleared",
+            "segmentation": [], "error": None, "timings": {"wall_s": 60.0}}
+
+
+def test_aggregate_pools_rounds_and_averages_seeds():
+    rows = [_round(0, 1, 3, [(True, None), (True, None), (True, None)]),
+            _round(1, 2, 4, [(True, None), (False, "CLOSE"), (False, "PRE_GRASP")])]
+    res = cb.aggregate(rows, "packed", "builtin", [1, 2], workers=2, wall_time_s=120.0)
+    assert (res["attempts"], res["successes"], res["objects_placed"]) == (6, 4, 7)
+    assert res["gsr"] == round(4 / 6, 4) and res["dr"] == round(4 / 7, 4)
+    assert [s["gsr"] for s in res["seeds"]] == [1.0, round(1 / 3, 4)]
+    assert math.isclose(res["mean"]["gsr"], (1.0 + 1 / 3) / 2, abs_tol=1e-4)
+    assert math.isclose(res["std"]["gsr"], (1.0 - 1 / 3) / 2, abs_tol=1e-4)
+    assert res["failures_by_stage"] == {"PRE_GRASP": {"count": 1, "reasons": {"r": 1}},
+                                        "CLOSE": {"count": 1, "reasons": {"r": 1}}}
+    assert res["attempts_executed"] == 5 and res["gsr_executed"] == 0.8  # PRE_GRASP never moved
+    assert res["success_by_object"]["mug"] == {"placed": 7, "attempts": 6, "picked": 4,
+                                               "success_rate": round(4 / 6, 4)}
+    assert res["rounds_per_hour"] == 60.0
+
+
+def test_bad_protocol_and_object_folder_are_refused_before_any_round(tmp_path):
+    from grasp_pipeline.objects.model import MeshError
+
+    with pytest.raises(ValueError, match="protocol"):
+        cb.run_clutter_benchmark(protocol="heap", rounds=1, json_path=None, out_dir=tmp_path)
+    with pytest.raises(MeshError):
+        cb.run_clutter_benchmark(protocol="packed", objects=str(tmp_path / "nowhere"), rounds=1,
+                                 out_dir=tmp_path)

@@ -1,0 +1,74 @@
+"""Clearing a table: target order and the round rules (VGN: 2 consecutive failures end a
+round), with fake picks — the real picks run in the clutter benchmark's tests."""
+
+from types import SimpleNamespace
+
+import pytest
+
+from grasp_pipeline import _core
+from grasp_pipeline.orchestration import declutter
+from grasp_pipeline.orchestration.config import DeclutterConfig
+from grasp_pipeline.results import PickResult
+
+
+def _track(tid, x, y):
+    est = SimpleNamespace(center=[x, y, 0.22], grasp_ok=True, notes=[])
+    return SimpleNamespace(tid=tid, smoothed=est, quality=_core.ViewQuality.NADIR)
+
+
+class _Cell:
+    def pick_target_note(self, xy, margin):
+        return None
+
+
+def test_targets_near_a_failed_anchor_go_last():
+    targets = [(0.40, 0.0), (0.45, 0.0), (0.50, 0.1)]
+    out = declutter.order_targets(targets, failed_anchors=[(0.41, 0.0)], radius_m=0.03)
+    assert out == [(0.45, 0.0), (0.50, 0.1), (0.40, 0.0)]
+
+
+@pytest.fixture
+def fake(monkeypatch):
+    """A context whose table holds ``state['objects']``; a pick succeeds per ``state['plan']``."""
+    state = {"objects": [(0.40, 0.0), (0.50, 0.0), (0.60, 0.0)], "plan": [], "looks": 0}
+    loop = SimpleNamespace(tracks=lambda: [_track(i, *xy) for i, xy in enumerate(state["objects"])])
+    ctx = SimpleNamespace(loop=loop, settings=SimpleNamespace(grasp=SimpleNamespace(target_fixture_margin_m=0.03)))
+
+    def pick(_ctx, xy):
+        ok = state["plan"].pop(0)
+        if ok:
+            state["objects"].remove(tuple(xy))
+        return PickResult(anchor=list(xy), success=ok, failed_stage=None if ok else "CLOSE")
+
+    def look(_ctx):
+        state["looks"] += 1
+        return {t.tid for t in loop.tracks()}
+
+    monkeypatch.setattr(declutter, "pick_object", pick)
+    monkeypatch.setattr(declutter, "look_again", look)
+    return ctx, state
+
+
+def test_round_clears_the_table_and_ends_when_nothing_is_proposed(fake):
+    ctx, state = fake
+    state["plan"] = [True, False, True, True]
+    out = declutter.clear_table(ctx, _Cell(), {0, 1, 2}, DeclutterConfig())
+    assert [a.success for a in out.attempts] == [True, False, True, True]
+    assert out.end_reason == declutter.END_NO_TARGET and state["objects"] == []
+    # after the failure at (0.5, 0) the next attempt went to the other object first
+    assert [a.anchor for a in out.attempts][1:3] == [[0.5, 0.0], [0.6, 0.0]]
+    assert state["looks"] == len(out.attempts)
+
+
+def test_two_failures_in_a_row_end_the_round(fake):
+    ctx, state = fake
+    state["plan"] = [False, False, True]
+    out = declutter.clear_table(ctx, _Cell(), {0, 1, 2}, DeclutterConfig(max_consecutive_failures=2))
+    assert len(out.attempts) == 2 and out.end_reason.startswith(declutter.END_FAILURES)
+
+
+def test_attempt_limit(fake):
+    ctx, state = fake
+    state["plan"] = [False, True, False, True]
+    out = declutter.clear_table(ctx, _Cell(), {0, 1, 2}, DeclutterConfig(max_attempts=3))
+    assert len(out.attempts) == 3 and out.end_reason.startswith(declutter.END_ATTEMPTS)
