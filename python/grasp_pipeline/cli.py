@@ -56,6 +56,7 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
                                  out="out/bench_grasp", out_help="folder for summary.md, plots and per-scene reports")
     g.add_argument("--scene-timeout", type=positive_float, default=1800.0, metavar="S",
                    help="wall-clock limit of one scene in seconds (default 1800)")
+    _add_backend_options(g)
     _add_config_options(g, "scene_filter, obb, camera, sim, motion, scan, grasp", "sim.object_count=[1,3]")
 
     w = bsub.add_parser(
@@ -92,8 +93,19 @@ def _add_clutter_bench(bsub) -> None:
     c.add_argument("--no-progress", action="store_true", help="no progress bar")
     c.add_argument("--round-timeout", type=positive_float, default=3600.0, metavar="S",
                    help="wall-clock limit of one round in seconds (default 3600)")
+    _add_backend_options(c)
     _add_config_options(c, "scene_filter, obb, camera, sim, clutter, motion, scan, grasp, declutter",
                         "clutter.objects_per_scene=3")
+
+
+def _add_backend_options(p: argparse.ArgumentParser) -> None:
+    """``--backend local|ray`` and ``--address`` of the benchmarks that fan out."""
+    p.add_argument("--backend", choices=["local", "ray"], default="local",
+                   help="local: spawned processes on this machine; ray: Ray tasks (pip install "
+                        "'grasp_pipeline[ray]'), a local Ray instance with --workers CPUs unless "
+                        "--address joins a cluster")
+    p.add_argument("--address", default=None, metavar="HOST:PORT",
+                   help="with --backend ray: the Ray cluster to join (e.g. 10.0.0.5:6379)")
 
 
 def _add_scene_benchmark_options(p: argparse.ArgumentParser, scenes: int, workers: int, workers_help: str,
@@ -248,7 +260,8 @@ def _run(args: argparse.Namespace) -> int:
                                          json_path=args.json, out_dir=args.out,
                                          progress=not args.no_progress,
                                          scene_timeout_s=args.scene_timeout,
-                                         overrides=(args.config, args.sets))
+                                         overrides=(args.config, args.sets),
+                                         backend=args.backend, address=args.address)
             print(headline(result))
             print(f"JSON: {args.json}\nsummary: {result['summary']}")
         elif args.bench == "clutter":
@@ -259,7 +272,7 @@ def _run(args: argparse.Namespace) -> int:
                 protocol=args.protocol, objects=args.objects, rounds=args.rounds, seeds=args.seed,
                 workers=args.workers, json_path=args.json, out_dir=args.out,
                 progress=not args.no_progress, round_timeout_s=args.round_timeout,
-                overrides=(args.config, args.sets))
+                overrides=(args.config, args.sets), backend=args.backend, address=args.address)
             print(clutter_headline(result))
             print(f"JSON: {args.json}\nsummary: {result['summary']}")
         elif args.bench == "workers":

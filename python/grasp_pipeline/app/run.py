@@ -166,7 +166,7 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
         if prepare is not None:  # after the built-in recorders: the pick evaluation comes first
             prepare(system)
         _stages(system, settings, report, recorders[0], select, scan, place,
-                grasp_source or GeometricGraspSource(), declutter)
+                grasp_source or GeometricGraspSource(settings.grasp), declutter)
         report.status = STATUS_FAILED if report.error else STATUS_COMPLETE
     except KeyboardInterrupt:
         system.world.hold()

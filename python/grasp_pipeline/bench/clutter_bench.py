@@ -199,8 +199,10 @@ def _check_inputs(protocol: str, objects: str, rounds: int, seeds: list[int], wo
 def run_clutter_benchmark(protocol: str = "packed", objects: str = "builtin", rounds: int = 20,
                           seeds: tuple = (0,), workers: int = 1, json_path=None,
                           out_dir: str | Path = "out/bench_clutter", progress: bool = True,
-                          round_timeout_s: float = 3600.0, overrides: tuple = (None, ())) -> dict:
-    """Run the benchmark; write the JSON (``json_path``), ``OUT/summary.md`` and plots."""
+                          round_timeout_s: float = 3600.0, overrides: tuple = (None, ()),
+                          backend: str = "local", address: Optional[str] = None) -> dict:
+    """Run the benchmark; write the JSON (``json_path``), ``OUT/summary.md`` and plots.
+    ``backend``: ``"local"`` (spawned processes) or ``"ray"`` (``address``: a cluster's)."""
     seeds = [int(s) for s in seeds]
     _check_inputs(protocol, objects, rounds, seeds, workers, overrides)
     out = check_writable_dir(Path(out_dir), "output folder (--out)")
@@ -209,11 +211,13 @@ def run_clutter_benchmark(protocol: str = "packed", objects: str = "builtin", ro
     tasks = _tasks(protocol, objects, rounds, seeds, out, overrides)
     t0 = time.perf_counter()
     with sigterm_as_interrupt():
-        rows, interrupted = run_jobs(tasks, ROUND_JOBS, min(workers, len(tasks)), round_timeout_s, progress)
+        rows, interrupted = run_jobs(tasks, ROUND_JOBS, min(workers, len(tasks)), round_timeout_s,
+                                     progress, backend, address)
     result = aggregate(rows, protocol, str(objects), seeds, min(workers, len(tasks)),
                        time.perf_counter() - t0)
     result.update(status="interrupted" if interrupted else "complete", rounds_requested=len(tasks),
-                  cpu_count=os.cpu_count(), mujoco_gl=worker_env()["MUJOCO_GL"], out_dir=str(out))
+                  cpu_count=os.cpu_count(), mujoco_gl=worker_env()["MUJOCO_GL"], out_dir=str(out),
+                  backend=backend)
     from .clutter_plots import write_plots, write_summary
 
     result["plots"] = {k: str(Path(v).relative_to(out)) for k, v in write_plots(result, out).items()}

@@ -522,10 +522,13 @@ def strip_timings(result: dict) -> dict:
 def run_grasp_benchmark(scenes: int, seed: int = 0, workers: int = 1, json_path: str | Path | None = None,
                         out_dir: str | Path = "out/bench_grasp", progress: bool = True,
                         scene_timeout_s: float = DEFAULT_SCENE_TIMEOUT_S,
-                        overrides: tuple = (None, ())) -> dict:
+                        overrides: tuple = (None, ()), backend: str = "local",
+                        address: Optional[str] = None) -> dict:
     """Run the benchmark; write the JSON (``json_path``), ``OUT/summary.md`` and plots.
 
-    ``overrides``: ``(config_file, [name=value, ...])`` applied to every scene's settings."""
+    ``overrides``: ``(config_file, [name=value, ...])`` applied to every scene's settings;
+    ``backend``: ``"local"`` (spawned processes) or ``"ray"`` (``address``: a cluster's, else a
+    local Ray instance with ``workers`` CPUs)."""
     if scenes < 1:
         raise ValueError(f"scenes must be >= 1, got {scenes}")
     if workers < 1:
@@ -545,11 +548,12 @@ def run_grasp_benchmark(scenes: int, seed: int = 0, workers: int = 1, json_path:
     t0 = time.perf_counter()
     with sigterm_as_interrupt():
         records, interrupted = run_jobs([(*t, overrides) for t in tasks], SCENE_JOBS, workers_used,
-                                        scene_timeout_s, progress)
+                                        scene_timeout_s, progress, backend, address)
     wall = time.perf_counter() - t0
     env = worker_env()
     result = aggregate(records, seed, workers_used, wall,
                        extra={"workers_requested": int(workers), "cpu_count": os.cpu_count(),
+                              "backend": backend,
                               "mujoco_gl": env["MUJOCO_GL"],
                               "status": "interrupted" if interrupted else "complete",
                               "scenes_finished": len(records)})

@@ -104,7 +104,7 @@ def _grasp_motions(system, rec: _Recorder, track, settings) -> None:
     motion.set_scene(scene.without_fragments(track.tid, cfg.fragment_margin_m), track.tid)
     t0 = time.perf_counter()
     try:
-        planned = plan_grasp(motion, GeometricGraspSource().propose(req), cfg,
+        planned = plan_grasp(motion, GeometricGraspSource(cfg).propose(req), cfg,
                              system.world.tcp_pose(), system.world.finger_gap_m, GRIPPER_MAX_WIDTH_M)
     except MotionError as exc:
         rec.records.append(MotionRecord(scene=rec.scene, kind="pregrasp+approach", ok=False,

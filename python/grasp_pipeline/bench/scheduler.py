@@ -175,10 +175,20 @@ class _Scheduler:
 
 
 def run_jobs(tasks: list[tuple], spec: JobSpec, workers: int, timeout_s: float,
-             progress: bool) -> tuple[list[dict], bool]:
-    """Run ``tasks`` in spawned processes, ``workers`` at a time, in the given order.
+             progress: bool, backend: str = "local", address: Optional[str] = None
+             ) -> tuple[list[dict], bool]:
+    """Run ``tasks`` in spawned processes, ``workers`` at a time, in the given order — or on
+    Ray with ``backend="ray"`` (:mod:`.ray_backend`; ``address`` joins a cluster).
     Returns (records sorted by ``index``, interrupted): on Ctrl-C / SIGTERM the running jobs
     are stopped and the records finished so far are returned."""
+    if backend == "ray":
+        from .ray_backend import run_jobs_ray
+
+        return run_jobs_ray(tasks, spec, workers, timeout_s, progress, address)
+    if backend != "local":
+        from ..exceptions import InputError
+
+        raise InputError(f"backend must be 'local' or 'ray', got {backend!r}")
     import multiprocessing as mp
 
     from tqdm import tqdm

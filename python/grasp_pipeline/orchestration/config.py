@@ -68,6 +68,8 @@ class GraspConfig:
     place_slot_dy_m: float = 0.08
     release_wait_s: float = 0.6
     pick_timeout_s: float = 90.0
+    table_clearance_m: float = 0.004
+    palm_clearance_m: float = 0.01
 
     def validate(self) -> None:
         _positive(self, *(f.name for f in fields(self)

@@ -78,6 +78,7 @@ class GraspAction:
         self.picked_at: dict[int, np.ndarray] = {}
         self._target_height_m: Optional[float] = None  # measured height of the object in hand
         self.backoff_m = 0.0  # how far above the contact point the executed grasp stopped [m]
+        self.tcp_height_m: Optional[float] = None  # TCP above the table at the grasp [m]
 
     @property
     def robot(self):
@@ -163,6 +164,9 @@ class GraspAction:
         plan: PlannedGrasp = plan_grasp(motion, candidates, cfg, robot.tcp_pose(), robot.finger_gap_m,
                                         GRIPPER_MAX_WIDTH_M)
         self.backoff_m = plan.backoff_m
+        plane = self.loop.plane
+        self.tcp_height_m = None if plane is None else \
+            float(np.asarray(plane.n, float) @ plan.T_grasp[:3, 3] + float(plane.c))
         out.width_m, out.candidate = float(plan.grasp.width_m), plan.index
         opening = opening_for(plan.grasp, cfg, GRIPPER_MAX_WIDTH_M)
         robot.set_gripper(opening, effort_N=cfg.close_effort_N)

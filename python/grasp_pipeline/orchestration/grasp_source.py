@@ -7,7 +7,8 @@ produced them, so a learned grasp detector replaces the geometric one by impleme
 :meth:`GraspSource.propose` — nothing in motion or execution changes.
 
 * :class:`GeometricGraspSource` — SPEC 3's top-down grasp from the target's box (the grasp
-  the selection publishes every frame), then closing across the other side when it fits.
+  the selection publishes every frame), then closing across the other side when it fits;
+  both at a contact height that fits the hand (:func:`contact_height_m`, ours).
 * :class:`FixedGraspSource` — a fixed list of poses (known grasps, a replay, a test).
 """
 
@@ -20,6 +21,8 @@ import numpy as np
 
 from .. import _core
 from ..motion.perceived_scene import PerceivedScene
+from ..robot.description import HandClearances, hand_clearances
+from .config import GraspConfig
 from .selection import perpendicular_grasp
 
 
@@ -49,17 +52,49 @@ class GraspSource(Protocol):
         """``_core.BestGrasp`` candidates, best first."""
 
 
+def contact_height_m(height_m: float, hand: HandClearances, config: GraspConfig) -> float:
+    """Height [m] above the table plane of the contact point of a top-down grasp of an object
+    ``height_m`` tall (ours): SPEC 3's box centre (``height_m / 2``), raised where the hand
+    needs it — the pads' lowest point stays ``table_clearance_m`` above the table (a 2 cm
+    soap bar grasped at 1 cm put the pads on the table) and the palm stays
+    ``palm_clearance_m`` above the object's top (a 20 cm bottle grasped at 10 cm put the palm
+    on the bottle). Measured in clutter: these two were 4 of the first 12 failed attempts."""
+    return max(0.5 * height_m, hand.pad_below_tcp_m + config.table_clearance_m,
+               height_m + config.palm_clearance_m - hand.palm_above_tcp_m)
+
+
+def at_contact_height(grasp, plane, height_m: float, hand: HandClearances, config: GraspConfig):
+    """``grasp`` moved along the plane normal to :func:`contact_height_m`."""
+    n = np.asarray(plane.n, dtype=float)
+    p = np.asarray(grasp.position, dtype=float)
+    dz = contact_height_m(height_m, hand, config) - (float(n @ p) + float(plane.c))
+    if abs(dz) < 1e-9:
+        return grasp
+    return _core.BestGrasp(np.asarray(grasp.R, dtype=float), p + dz * n, float(grasp.width_m))
+
+
 class GeometricGraspSource:
-    """The published SPEC 3 grasp, then the perpendicular one when that side fits."""
+    """The published SPEC 3 grasp, then the perpendicular one when that side fits, each at a
+    contact height that fits the hand (:func:`contact_height_m`).
+
+    ``config``: the grasp parameters (clearances); ``hand``: the hand's extent around the TCP
+    (default: read from the robot model)."""
 
     name = "geometric"
 
+    def __init__(self, config: Optional[GraspConfig] = None, hand: Optional[HandClearances] = None):
+        self.config = config or GraspConfig()
+        self.hand = hand or hand_clearances()
+
     def propose(self, request: GraspRequest) -> list:
         out = [] if request.published is None else [request.published]
-        if request.target is not None and request.scene.plane is not None:
-            alt = perpendicular_grasp(request.target, request.scene.plane, request.max_width_m)
+        plane = request.scene.plane
+        if request.target is not None and plane is not None:
+            alt = perpendicular_grasp(request.target, plane, request.max_width_m)
             if alt is not None:
                 out.append(alt)
+            height = float(request.target.smoothed.height_m)
+            out = [at_contact_height(g, plane, height, self.hand, self.config) for g in out]
         return out
 
 

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import logging
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Optional
 
 import numpy as np
@@ -44,7 +44,7 @@ class PickContext:
     action: object        # GraspAction
     scanner: Optional[object]  # ActiveScan (None: no re-probe)
     settings: object      # Settings: scan, grasp, obb, motion
-    source: GraspSource = GeometricGraspSource()
+    source: GraspSource = field(default_factory=GeometricGraspSource)
     place: bool = True
 
 

@@ -60,9 +60,10 @@ def _carry_up(action, out: GraspOutcome, plane_z_m: float):
 
 def _lower(action, out: GraspOutcome, T_above: np.ndarray, slot: np.ndarray):
     cfg, motion = action.config, action.motion
-    if action._target_height_m is None:
+    if action._target_height_m is None or action.tcp_height_m is None:
         return
-    z_release = cfg.place_clearance_m + 0.5 * action._target_height_m + action.backoff_m
+    # the object's bottom hangs as far below the TCP as the TCP stood above the table
+    z_release = cfg.place_clearance_m + action.tcp_height_m
     if z_release >= cfg.place_height_m:
         return
     T_down = T_above.copy()

@@ -21,6 +21,7 @@ Limits (``PANDA_*``) are Franka's published figures (datasheet; DESIGN.md table)
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from functools import lru_cache
 
 import mujoco
@@ -165,3 +166,44 @@ def forward_kinematics(q: np.ndarray, model: mujoco.MjModel | None = None) -> np
     data.qpos[arm_qpos_indices(model)] = q
     mujoco.mj_kinematics(model, data)
     return flange_pose(model, data)
+
+
+@dataclass(frozen=True)
+class HandClearances:
+    """How the hand extends along the approach axis around the TCP [m], from the model.
+
+    ``pad_below_tcp_m``: how far the finger pads reach past the TCP (towards the object);
+    ``palm_above_tcp_m``: from the TCP back to the nearest face of the hand's other collision
+    geoms (palm, camera housing) — an object taller than this above the TCP meets the palm."""
+
+    pad_below_tcp_m: float
+    palm_above_tcp_m: float
+
+
+def _geom_reach_along_z(model: mujoco.MjModel, g: int, T_hand_body: np.ndarray) -> float:
+    """The largest hand-frame z of geom ``g`` (a box or any geom's bounding box)."""
+    T = T_hand_body @ _pose(model.geom_pos[g], model.geom_quat[g])
+    half = model.geom_size[g] if model.geom_type[g] == mujoco.mjtGeom.mjGEOM_BOX else \
+        np.full(3, model.geom_rbound[g])
+    return float(T[2, 3] + np.abs(T[2, :3]) @ half)
+
+
+def hand_clearances(model: mujoco.MjModel | None = None) -> HandClearances:
+    """:class:`HandClearances` of the Franka Hand in ``model`` (default: our robot MJCF)."""
+    model = model if model is not None else _robot_model_cached()
+    hand = model.body(HAND_BODY).id
+    tcp_z = float(model.site(TCP_SITE).pos[2])
+    pad_z, palm_z = -np.inf, -np.inf
+    for g in range(model.ngeom):
+        b = int(model.geom_bodyid[g])
+        if b != hand and int(model.body_parentid[b]) != hand:
+            continue
+        if model.geom_contype[g] == 0 and model.geom_conaffinity[g] == 0:
+            continue
+        T = np.eye(4) if b == hand else _pose(model.body_pos[b], model.body_quat[b])
+        z = _geom_reach_along_z(model, g, T)
+        if model.geom(g).name in FINGER_PAD_GEOMS:
+            pad_z = max(pad_z, z)
+        elif b == hand:
+            palm_z = max(palm_z, z)
+    return HandClearances(pad_below_tcp_m=pad_z - tcp_z, palm_above_tcp_m=tcp_z - palm_z)

@@ -1,0 +1,39 @@
+"""The job scheduler of the benchmarks, local and on Ray: results in index order, a fresh
+process per job, and a worker that dies costs its own job only (reported with the reason)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from grasp_pipeline.bench.scheduler import JobSpec, run_jobs
+
+import jobs_for_tests as jobs  # (this folder is on sys.path: no package)
+
+SPEC = JobSpec(run_fn=jobs.echo_or_die, failed_fn=jobs.failed, desc="test")
+TASKS = [(0, "a"), (1, "die"), (2, "b"), (3, "c")]
+
+
+@pytest.fixture
+def importable(monkeypatch):
+    """Ray workers find the test's job module through PYTHONPATH (as a checkout run would)."""
+    monkeypatch.setenv("PYTHONPATH", str(Path(__file__).resolve().parent))
+
+
+@pytest.mark.parametrize("backend", ["local", "ray"])
+def test_a_dying_worker_costs_only_its_job(backend, importable):
+    records, interrupted = run_jobs(TASKS, SPEC, workers=2, timeout_s=120, progress=False,
+                                    backend=backend)
+    assert not interrupted
+    assert [r["index"] for r in records] == [0, 1, 2, 3]
+    assert "WorkerDied" in records[1]["error"]
+    assert [records[i]["value"] for i in (0, 2, 3)] == ["a", "b", "c"]
+    assert len({records[i]["pid"] for i in (0, 2, 3)}) == 3   # a fresh process per job
+
+
+def test_unknown_backend_is_refused():
+    from grasp_pipeline.exceptions import InputError
+
+    with pytest.raises(InputError, match="backend"):
+        run_jobs(TASKS, SPEC, workers=1, timeout_s=10, progress=False, backend="dask")
