@@ -1,8 +1,9 @@
 """Clearing a table (ours, in the round rules of the VGN/GIGA benchmarks).
 
 After the rough view and the active scan, :func:`clear_table` repeats: choose one target among
-the perceived objects (:func:`~.targets.default_targets`, with objects near an earlier failed
-attempt tried last), attempt one pick (:func:`~.pick.pick_object`, which measures the target
+the perceived objects (:func:`~.targets.default_targets`; with ``order: accessibility`` the
+one with the most free space for the fingers first, :mod:`.accessibility`; objects near an
+earlier failed attempt last), attempt one pick (:func:`~.pick.pick_object`, which measures the target
 from above again when its view is not NADIR), then **look again** — forget the tracks, since
 a grasp may have moved the neighbours, and take a fresh rough view from the start pose.
 It ends when no graspable object is proposed, after ``max_consecutive_failures`` failed
@@ -20,6 +21,8 @@ from typing import Callable, Optional
 
 import numpy as np
 
+from ..robot.description import hand_clearances
+from .accessibility import rank_by_accessibility
 from .config import DeclutterConfig
 from .events import StageEvent
 from .pick import PickContext, pick_object, return_to_start
@@ -63,6 +66,16 @@ def look_again(ctx: PickContext) -> set:
     return {int(t.tid) for t in ctx.loop.tracks()}
 
 
+def choose_order(ctx: PickContext, targets: list, failed_anchors: list, config: DeclutterConfig) -> list:
+    """The round's target order: by accessibility (or nearest first), failed places last."""
+    if config.order == "accessibility":
+        s = ctx.settings
+        targets = rank_by_accessibility(targets, ctx.loop.tracks(), hand_clearances(),
+                                        s.grasp.open_margin_m, s.obb.gripper_open - s.grasp.open_margin_m,
+                                        config.free_space_enough_m)
+    return order_targets(targets, failed_anchors, config.failed_anchor_radius_m)
+
+
 def _ended(outcome: DeclutterOutcome, consecutive: int, cfg: DeclutterConfig) -> bool:
     if consecutive >= cfg.max_consecutive_failures:
         outcome.end_reason = f"{END_FAILURES} ({consecutive})"
@@ -81,7 +94,7 @@ def clear_table(ctx: PickContext, cell, rough_tids: set, config: DeclutterConfig
     margin = ctx.settings.grasp.target_fixture_margin_m
     while True:
         targets, out.skipped = default_targets(ctx.loop.tracks(), cell, margin, rough_tids)
-        targets = order_targets(targets, failed_anchors, config.failed_anchor_radius_m)
+        targets = choose_order(ctx, targets, failed_anchors, config)
         if not targets:
             out.end_reason = END_NO_TARGET
             break

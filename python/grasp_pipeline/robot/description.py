@@ -174,10 +174,14 @@ class HandClearances:
 
     ``pad_below_tcp_m``: how far the finger pads reach past the TCP (towards the object);
     ``palm_above_tcp_m``: from the TCP back to the nearest face of the hand's other collision
-    geoms (palm, camera housing) — an object taller than this above the TCP meets the palm."""
+    geoms (palm, camera housing) — an object taller than this above the TCP meets the palm;
+    ``finger_thickness_m``: how far a finger reaches outwards from its pad's face (along the
+    closing axis); ``finger_width_m``: its width across the closing axis."""
 
     pad_below_tcp_m: float
     palm_above_tcp_m: float
+    finger_thickness_m: float = 0.02
+    finger_width_m: float = 0.019
 
 
 def _geom_reach_along_z(model: mujoco.MjModel, g: int, T_hand_body: np.ndarray) -> float:
@@ -194,6 +198,7 @@ def hand_clearances(model: mujoco.MjModel | None = None) -> HandClearances:
     hand = model.body(HAND_BODY).id
     tcp_z = float(model.site(TCP_SITE).pos[2])
     pad_z, palm_z = -np.inf, -np.inf
+    out_y, half_x = _finger_footprint(model)
     for g in range(model.ngeom):
         b = int(model.geom_bodyid[g])
         if b != hand and int(model.body_parentid[b]) != hand:
@@ -206,4 +211,22 @@ def hand_clearances(model: mujoco.MjModel | None = None) -> HandClearances:
             pad_z = max(pad_z, z)
         elif b == hand:
             palm_z = max(palm_z, z)
-    return HandClearances(pad_below_tcp_m=pad_z - tcp_z, palm_above_tcp_m=tcp_z - palm_z)
+    return HandClearances(pad_below_tcp_m=pad_z - tcp_z, palm_above_tcp_m=tcp_z - palm_z,
+                          finger_thickness_m=out_y, finger_width_m=2.0 * half_x)
+
+
+def _finger_footprint(model: mujoco.MjModel) -> tuple[float, float]:
+    """(outward reach from the pad face, half width) of the first finger's collision geoms, in
+    its body frame (the finger opens along +y; the pad face is the pad's smallest y)."""
+    body = model.body(FINGER_BODIES[0]).id
+    pad = model.geom(FINGER_PAD_GEOMS[0])
+    face_y = float(pad.pos[1] - pad.size[1])
+    out_y, half_x = 0.0, 0.0
+    for g in range(model.ngeom):
+        if int(model.geom_bodyid[g]) != body or model.geom_type[g] != mujoco.mjtGeom.mjGEOM_BOX:
+            continue
+        R = _pose(model.geom_pos[g], model.geom_quat[g])[:3, :3]
+        ext = np.abs(R) @ model.geom_size[g]
+        out_y = max(out_y, float(model.geom_pos[g][1] + ext[1]) - face_y)
+        half_x = max(half_x, float(abs(model.geom_pos[g][0]) + ext[0]))
+    return out_y, half_x

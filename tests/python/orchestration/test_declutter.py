@@ -52,7 +52,7 @@ def fake(monkeypatch):
 def test_round_clears_the_table_and_ends_when_nothing_is_proposed(fake):
     ctx, state = fake
     state["plan"] = [True, False, True, True]
-    out = declutter.clear_table(ctx, _Cell(), {0, 1, 2}, DeclutterConfig())
+    out = declutter.clear_table(ctx, _Cell(), {0, 1, 2}, DeclutterConfig(order="nearest"))
     assert [a.success for a in out.attempts] == [True, False, True, True]
     assert out.end_reason == declutter.END_NO_TARGET and state["objects"] == []
     # after the failure at (0.5, 0) the next attempt went to the other object first
@@ -63,12 +63,12 @@ def test_round_clears_the_table_and_ends_when_nothing_is_proposed(fake):
 def test_two_failures_in_a_row_end_the_round(fake):
     ctx, state = fake
     state["plan"] = [False, False, True]
-    out = declutter.clear_table(ctx, _Cell(), {0, 1, 2}, DeclutterConfig(max_consecutive_failures=2))
+    out = declutter.clear_table(ctx, _Cell(), {0, 1, 2}, DeclutterConfig(max_consecutive_failures=2, order="nearest"))
     assert len(out.attempts) == 2 and out.end_reason.startswith(declutter.END_FAILURES)
 
 
 def test_attempt_limit(fake):
     ctx, state = fake
     state["plan"] = [False, True, False, True]
-    out = declutter.clear_table(ctx, _Cell(), {0, 1, 2}, DeclutterConfig(max_attempts=3))
+    out = declutter.clear_table(ctx, _Cell(), {0, 1, 2}, DeclutterConfig(max_attempts=3, order="nearest"))
     assert len(out.attempts) == 3 and out.end_reason.startswith(declutter.END_ATTEMPTS)
