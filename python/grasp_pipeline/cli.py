@@ -3,7 +3,7 @@
 Sub-commands:
   demo                      the default headless demo: ``run`` on the reference scene
   run                       rough view, active scan, pick (and place) the selected objects
-  bench perception|sim|planning|grasp|workers
+  bench perception|sim|planning|grasp|workers|frames
                             benchmarks that print figures and write JSON
   perceive FILE             one point cloud from disk (.pcd/.ply/.npy) through the
                             scene filter and estimates; prints, writes JSON (+ PNG)
@@ -65,6 +65,15 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
     _add_scene_benchmark_options(w, scenes=6, workers=2, workers_help="workers of the second run (default 2)",
                                  out="out/bench_workers", out_help="folder for both runs' JSON, summaries and plots")
     _add_config_options(w, "scene_filter, obb, camera, sim, motion, scan, grasp", "sim.object_count=[1,3]")
+
+    f = bsub.add_parser(
+        "frames", help="frames on demand vs continuous frames: throughput and per-object outcomes",
+        description="Runs 'bench grasp' twice on the same seeded scenes (camera.frames=continuous, "
+                    "the old path, then on_demand) and prints both throughputs, the speed-up and "
+                    "every object whose outcome (picked, failed stage and reason) differs.")
+    _add_scene_benchmark_options(f, scenes=6, workers=2, workers_help="worker processes of both runs",
+                                 out="out/bench_frames", out_help="folder for both runs' JSON, summaries and plots")
+    _add_config_options(f, "scene_filter, obb, camera, sim, motion, scan, grasp", "sim.object_count=[1,3]")
 
 
 def _add_scene_benchmark_options(p: argparse.ArgumentParser, scenes: int, workers: int, workers_help: str,
@@ -226,6 +235,13 @@ def _run(args: argparse.Namespace) -> int:
                                               json_path=args.json, out_dir=args.out,
                                               progress=not args.no_progress,
                                               overrides=(args.config, args.sets)))
+        elif args.bench == "frames":
+            from .bench.frames_bench import run_frames_benchmark
+
+            _print_json(run_frames_benchmark(scenes=args.scenes, seed=args.seed, workers=args.workers,
+                                             json_path=args.json, out_dir=args.out,
+                                             progress=not args.no_progress,
+                                             overrides=(args.config, args.sets)))
         return 0
     if args.command == "perceive":
         from .perceive import run_perceive

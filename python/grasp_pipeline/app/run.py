@@ -95,12 +95,19 @@ def _stages(system: System, settings: Settings, report: RunReport, snapshots, se
     rough_tids = {int(t.tid) for t in system.loop.tracks()}
     if scan:
         _scan(system, settings, report, snapshots)
-    t0 = time.perf_counter()
+    t0, sim0 = time.perf_counter(), float(system.world.time_s)
     ctx = PickContext(system.rt, system.loop, system.action, system.scanner if scan else None,
                       settings, source, place)
     for xy in _targets(system, settings, report, select, rough_tids):
         report.picks.append(pick_object(ctx, xy))
     report.timings["picks_s"] = time.perf_counter() - t0
+    _real_time(report, "picks", float(system.world.time_s) - sim0, report.timings["picks_s"])
+
+
+def _real_time(report: RunReport, name: str, sim_s: float, wall_s: float) -> None:
+    """``<name>_sim_s`` and ``<name>_real_time_factor`` (simulated seconds per wall second)."""
+    report.timings[f"{name}_sim_s"] = sim_s
+    report.timings[f"{name}_real_time_factor"] = sim_s / wall_s if wall_s > 0 else 0.0
 
 
 def _check_outputs(out_dir: Path, json_path, video: bool) -> None:
@@ -172,8 +179,10 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
         report.status, report.error = STATUS_FAILED, f"internal error {type(exc).__name__}: {exc}"
         raise
     finally:
+        sim_s = float(system.world.time_s)
         _close(system, report, recorders)
         report.timings["wall_s"] = time.perf_counter() - wall0
+        _real_time(report, "run", sim_s, report.timings["wall_s"])
         if json_path is not None:
             write_json(json_path, report)
     return report

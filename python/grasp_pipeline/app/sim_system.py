@@ -74,7 +74,7 @@ def build_system(spec, settings: Settings, events: EventBus | None = None) -> Sy
     try:
         session = PerceptionSession(settings.scene_filter, settings.obb)
         loop = PerceptionLoop(session, settings.scan, ready_camera_pose=world.camera_pose(),
-                              events=events)
+                              events=events, camera=world)
         world.add_frame_listener(lambda f: loop.on_frame(f, world.q))
         rt = Runtime(world, events)
         cell = world.work_cell

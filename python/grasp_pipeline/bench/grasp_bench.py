@@ -67,7 +67,7 @@ ACCURACY_METRICS = {"center_mm": "center_err_mm", "width_mm": "width_err_mm",
 #: Top-level JSON keys (and per-scene keys) that hold timings — the only fields allowed to
 #: differ between two runs with the same seed.
 TIMING_KEYS = ("wall_time_s", "scenes_per_minute", "time_per_scene_s", "time_per_object_s",
-               "time_per_stage_s", "timings", "wall_s")
+               "time_per_stage_s", "timings", "wall_s", "real_time_factor")
 #: The issue's targets: name → (JSON path, comparison, value).
 TARGETS = {
     "pick success": (("success_rate",), ">=", 0.95),
@@ -613,9 +613,26 @@ def _success_groups(records: list[dict], objs: list[dict]) -> dict:
     }
 
 
+def _real_time_factors(records: list[dict]) -> dict:
+    """Simulated seconds per wall second over all scenes (sums, not a mean of ratios): of the
+    whole run (``run``) and of the pick loop alone (``pick_loop``); None without data."""
+    out: dict[str, Optional[float]] = {}
+    for name, sim_key, wall_key in (("run", "run_sim_s", "wall_s"), ("pick_loop", "picks_sim_s", "picks_s")):
+        rows = [r["timings"] for r in records if r["timings"].get(sim_key) is not None
+                and r["timings"].get(wall_key)]
+        wall = sum(t[wall_key] for t in rows)
+        out[name] = round(sum(t[sim_key] for t in rows) / wall, 3) if wall > 0 else None
+    return out
+
+
+def _is_wall_timing(key: str) -> bool:
+    return not (key.endswith("_sim_s") or key.endswith("_real_time_factor"))
+
+
 def _timing_figures(records: list[dict], wall_time_s: float) -> dict:
-    """Time per scene, per object and per stage, the wall time and the throughput."""
-    stage_keys = sorted({k for r in records for k in r["timings"]})
+    """Time per scene, per object and per stage, the wall time, the throughput and the
+    real-time factors (simulated per wall seconds)."""
+    stage_keys = sorted({k for r in records for k in r["timings"] if _is_wall_timing(k)})
     scene_wall = [r["timings"].get("wall_s") for r in records]
     per_object = [r["timings"]["wall_s"] / r["objects"] for r in records
                   if r["objects"] and r["timings"].get("wall_s") is not None]
@@ -625,6 +642,7 @@ def _timing_figures(records: list[dict], wall_time_s: float) -> dict:
         "time_per_stage_s": {k: stats(r["timings"].get(k) for r in records) for k in stage_keys},
         "wall_time_s": round(float(wall_time_s), 3),
         "scenes_per_minute": None if wall_time_s <= 0 else round(60.0 * len(records) / wall_time_s, 4),
+        "real_time_factor": _real_time_factors(records),
     }
 
 
@@ -742,6 +760,8 @@ def headline(result: dict) -> str:
         f"height {f(acc['height_mm'])} mm, yaw {f(acc['yaw_deg'])} deg",
         f"time per scene: median {result['time_per_scene_s']['median']} s; wall {result['wall_time_s']:.1f} s "
         f"with {result['workers']} worker(s) -> {result['scenes_per_minute']} scenes/min",
+        f"real-time factor (simulated s per wall s): run {result['real_time_factor']['run']}, "
+        f"pick loop {result['real_time_factor']['pick_loop']}",
     ]
     for stage, f_ in result["failures_by_stage"].items():
         lines.append(f"  failed at {stage}: {f_['count']} ({', '.join(f'{k} x{v}' for k, v in f_['reasons'].items())})")

@@ -2,7 +2,9 @@
 
 :func:`pick_object` is the sequence the run performs for every target position:
 
-1. let ``settle_view_s`` of fresh frames arrive;
+1. let ``settle_view_s`` of fresh frames arrive (looking: the camera renders only while a
+   pick looks — here, during a re-probe's dwell and during the selection's verification;
+   the grasp action's motions render nothing);
 2. re-probe (ours): a NADIR track retires ``nadir_hold_s`` after it was last seen (the camera
    looks at the tray while placing) and an oblique view misjudges what a grasp needs, so an
    object whose track is no longer NADIR — or is gone — is measured from above again;
@@ -89,7 +91,7 @@ def _select_and_verify(ctx: PickContext, xy, row: PickResult):
         row.failed_stage, row.message = "SELECT", sel.message
         return None
     if not ctx.rt.spin_until(lambda: loop.selector.published >= scan_cfg.select_verify_frames,
-                             scan_cfg.stale_timeout_s):
+                             scan_cfg.stale_timeout_s, look=True):
         row.failed_stage = "SELECT"
         row.message = f"selected, but no best grasp arrived within {scan_cfg.stale_timeout_s} s"
         loop.selector.clear()
