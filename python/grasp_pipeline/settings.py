@@ -35,6 +35,7 @@ SECTIONS: Mapping[str, tuple[str, str]] = MappingProxyType({
     "motion": ("grasp_pipeline.motion.config", "MotionConfig"),
     "scan": ("grasp_pipeline.orchestration.config", "ScanConfig"),
     "grasp": ("grasp_pipeline.orchestration.config", "GraspConfig"),
+    "video": ("grasp_pipeline.report.config", "VideoConfig"),
 })
 
 

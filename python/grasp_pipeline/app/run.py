@@ -116,8 +116,10 @@ def _check_outputs(out_dir: Path, json_path, video: bool) -> None:
         check_writable(json_path, "report file (--json)")
 
 
-def _recorders(system: System, out_dir: Path, video: bool, report: RunReport):
-    """(snapshots, video recorder or None); subscribes them and the pick evaluation."""
+def _recorders(system: System, out_dir: Path, video: bool, report: RunReport, settings: Settings):
+    """(snapshots, video recorder or None); subscribes them and the pick evaluation. The
+    video renders its own view at ``settings.video``'s rate and size on the event stream's
+    ticks — never through the eye-in-hand camera."""
     snapshots = SnapshotRecorder(out_dir, SNAPSHOTS).attach(system.events)
     PickEvaluator(system.world).attach(system.events)
     if not video:
@@ -126,12 +128,13 @@ def _recorders(system: System, out_dir: Path, video: bool, report: RunReport):
     from ..sim.scene_view import SceneView
 
     try:
-        view = SceneView(system.world)
+        view = SceneView(system.world, settings.video.video_width_px, settings.video.video_height_px)
     except RenderUnavailable as exc:
         log.warning("no video: %s", exc)
         report.warnings.append(f"video skipped: {exc}")
         return snapshots, None
-    recorder = VideoRecorder(view.render, out_dir / "run.mp4", on_close=view.close)
+    recorder = VideoRecorder(view.render, out_dir / "run.mp4", fps=settings.video.video_fps,
+                             on_close=view.close)
     return snapshots, recorder.attach(system.events)
 
 
@@ -162,7 +165,7 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
     try:
         if prepare is not None:
             prepare(system)
-        recorders = _recorders(system, out_dir, video, report)
+        recorders = _recorders(system, out_dir, video, report, settings)
         _stages(system, settings, report, recorders[0], select, scan, place,
                 grasp_source or GeometricGraspSource())
         report.status = STATUS_FAILED if report.error else STATUS_COMPLETE

@@ -19,7 +19,7 @@ from ..sim.scenes import random_scene, reference_scene
 from ..sim.world import SimWorld
 
 #: The parameter sets a simulated run uses.
-SECTIONS = ("scene_filter", "obb", "camera", "sim", "clutter", "motion", "scan", "grasp")
+SECTIONS = ("scene_filter", "obb", "camera", "sim", "clutter", "motion", "scan", "grasp", "video")
 
 
 @dataclass
