@@ -167,6 +167,7 @@ class SimWorld:
         self._tcp_site = m.site(TCP_SITE).id
         base_root = m.body(BASE_BODY).id
         self._robot_geom = m.body_rootid[m.geom_bodyid] == base_root
+        self._geom_names: list[str] | None = None
         self._check_table_height()
 
         start_q = np.asarray(self.scene.start_q, dtype=float)
@@ -491,8 +492,9 @@ class SimWorld:
 
     # ------------------------------------------------------------------ contacts
     def geom_name(self, geom_id: int) -> str:
-        name = self.model.geom(geom_id).name
-        return name if name else f"geom{geom_id}"
+        if self._geom_names is None:  # (names are fixed once the model is compiled)
+            self._geom_names = [self.model.geom(i).name or f"geom{i}" for i in range(self.model.ngeom)]
+        return self._geom_names[geom_id]
 
     def is_robot_geom(self, geom_id: int) -> bool:
         return bool(self._robot_geom[geom_id])
@@ -506,13 +508,15 @@ class SimWorld:
         """
         out: list[tuple[str, str]] = []
         d = self.data
-        for i in range(d.ncon):
-            c = d.contact[i]
-            g1, g2 = int(c.geom1), int(c.geom2)
-            r1, r2 = self._robot_geom[g1], self._robot_geom[g2]
-            if r1 == r2:
-                continue
-            rg, og = (g1, g2) if r1 else (g2, g1)
+        if d.ncon == 0:
+            return out
+        # Vectorised pre-filter (called at every monitored physics step): most contacts are
+        # object-table contacts; only robot / non-robot pairs are looked at one by one.
+        pairs = d.contact.geom
+        robot = self._robot_geom[pairs]
+        for i in np.flatnonzero(robot[:, 0] != robot[:, 1]):
+            g1, g2 = int(pairs[i, 0]), int(pairs[i, 1])
+            rg, og = (g1, g2) if robot[i, 0] else (g2, g1)
             other = self.geom_name(og)
             if not include_objects and other.startswith(OBJECT_PREFIX):
                 continue
