@@ -11,7 +11,9 @@ same: for every true object of every scene the result compares whether it was pi
 the tray and, if not, the stage and reason category of its failure, and lists each
 difference. The full non-timing comparison of the two results (as ``bench workers`` does)
 is reported as well, for information: estimates differ in their last digits because the
-two paths see different numbers of frames.
+two paths see different numbers of frames. ``speedup`` is the ratio of wall-clock
+throughputs; ``speedup_cpu`` that of the scene processes' CPU-time throughputs (robust to
+other load on a shared machine).
 """
 
 from __future__ import annotations
@@ -57,12 +59,18 @@ def compare_outcomes(old: dict, new: dict) -> list[dict]:
 
 def _mode_summary(result: dict) -> dict:
     return {k: result.get(k) for k in ("wall_time_s", "scenes_per_minute", "real_time_factor",
-                                       "objects", "picked", "success_rate", "failures_by_stage")}
+                                       "cpu_time_per_scene_s", "cpu_real_time_factor",
+                                       "scenes_per_minute_idle_cores", "objects", "picked",
+                                       "success_rate", "failures_by_stage")}
 
 
 def _comparable(result: dict) -> dict:
     return strip_timings({k: v for k, v in result.items()
                           if k not in ("workers_requested", "plots", "summary")})
+
+
+def _ratio(a: Optional[float], b: Optional[float]) -> Optional[float]:
+    return a / b if a and b else None
 
 
 def run_frames_benchmark(scenes: int, seed: int = 0, workers: int = 2,
@@ -80,14 +88,15 @@ def run_frames_benchmark(scenes: int, seed: int = 0, workers: int = 2,
             overrides=(config_file, [*sets, f"camera.frames={mode}"]))
     old, new = runs[MODES[0]], runs[MODES[1]]
     diffs = compare_outcomes(old, new)
-    speedup = (new["scenes_per_minute"] / old["scenes_per_minute"]
-               if old["scenes_per_minute"] and new["scenes_per_minute"] else None)
+    speedup = _ratio(new["scenes_per_minute"], old["scenes_per_minute"])
+    cpu_speedup = _ratio(new.get("scenes_per_minute_idle_cores"), old.get("scenes_per_minute_idle_cores"))
     result = {
         "benchmark": "frames",
         "scenes": scenes, "seed": seed, "workers": workers, "objects": new["objects"],
         "cpu_count": new.get("cpu_count"),
         MODES[0]: _mode_summary(old), MODES[1]: _mode_summary(new),
         "speedup": None if speedup is None else round(speedup, 3),
+        "speedup_cpu": None if cpu_speedup is None else round(cpu_speedup, 3),
         "speedup_target": SPEEDUP_TARGET,
         "speedup_met": None if speedup is None else bool(speedup >= SPEEDUP_TARGET),
         "outcomes_identical": not diffs,

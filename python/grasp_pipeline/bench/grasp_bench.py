@@ -67,7 +67,8 @@ ACCURACY_METRICS = {"center_mm": "center_err_mm", "width_mm": "width_err_mm",
 #: Top-level JSON keys (and per-scene keys) that hold timings — the only fields allowed to
 #: differ between two runs with the same seed.
 TIMING_KEYS = ("wall_time_s", "scenes_per_minute", "time_per_scene_s", "time_per_object_s",
-               "time_per_stage_s", "timings", "wall_s", "real_time_factor")
+               "time_per_stage_s", "timings", "wall_s", "real_time_factor", "cpu_time_per_scene_s",
+               "cpu_real_time_factor", "scenes_per_minute_idle_cores")
 #: The issue's targets: name → (JSON path, comparison, value).
 TARGETS = {
     "pick success": (("success_rate",), ">=", 0.95),
@@ -304,6 +305,9 @@ def _child_main(conn, index: int, seed: int, out_dir: str, log_level: int,
         rec = run_scene(index, seed, out_dir, overrides)
     except BaseException as exc:  # (run_scene catches Exception; this is e.g. SystemExit)
         rec = scene_record(index, seed, [], None, error=f"{type(exc).__name__}: {exc}")
+    # CPU seconds of this whole scene process (start-up and imports included, all threads):
+    # what the scene costs on an otherwise idle core, whatever else loads the machine.
+    rec["timings"]["process_cpu_s"] = time.process_time()
     conn.send(rec)
     conn.close()
 
@@ -626,7 +630,20 @@ def _real_time_factors(records: list[dict]) -> dict:
 
 
 def _is_wall_timing(key: str) -> bool:
-    return not (key.endswith("_sim_s") or key.endswith("_real_time_factor"))
+    return not (key.endswith("_sim_s") or key.endswith("_real_time_factor") or key.endswith("cpu_s"))
+
+
+def _cpu_figures(records: list[dict], workers: int) -> dict:
+    """CPU-time figures of the scene processes (robust to other load on the machine):
+    the median CPU seconds per scene, simulated seconds per CPU second, and the throughput
+    ``workers`` otherwise idle cores would give (60 N W / sum of CPU seconds: perfect
+    packing; the parent's scheduling is not counted)."""
+    cpu = [r["timings"]["process_cpu_s"] for r in records if r["timings"].get("process_cpu_s")]
+    sim = [r["timings"].get("run_sim_s") or 0.0 for r in records if r["timings"].get("process_cpu_s")]
+    total = sum(cpu)
+    return {"cpu_time_per_scene_s": stats(cpu),
+            "cpu_real_time_factor": round(sum(sim) / total, 3) if total > 0 else None,
+            "scenes_per_minute_idle_cores": round(60.0 * len(cpu) * workers / total, 4) if total > 0 else None}
 
 
 def _timing_figures(records: list[dict], wall_time_s: float) -> dict:
@@ -669,6 +686,7 @@ def aggregate(records: list[dict], seed: int, workers: int, wall_time_s: float,
         **_perception_figures(records, objs),
         **_success_groups(records, objs),
         **_timing_figures(records, wall_time_s),
+        **_cpu_figures(records, workers),
         "workers": int(workers),
         "scene_rows": [_scene_row(r) for r in records],
     }
@@ -761,7 +779,9 @@ def headline(result: dict) -> str:
         f"time per scene: median {result['time_per_scene_s']['median']} s; wall {result['wall_time_s']:.1f} s "
         f"with {result['workers']} worker(s) -> {result['scenes_per_minute']} scenes/min",
         f"real-time factor (simulated s per wall s): run {result['real_time_factor']['run']}, "
-        f"pick loop {result['real_time_factor']['pick_loop']}",
+        f"pick loop {result['real_time_factor']['pick_loop']}; per CPU s {result.get('cpu_real_time_factor')}",
+        f"CPU per scene: median {result['cpu_time_per_scene_s']['median']} s -> "
+        f"{result.get('scenes_per_minute_idle_cores')} scenes/min on {result['workers']} idle core(s)",
     ]
     for stage, f_ in result["failures_by_stage"].items():
         lines.append(f"  failed at {stage}: {f_['count']} ({', '.join(f'{k} x{v}' for k, v in f_['reasons'].items())})")
