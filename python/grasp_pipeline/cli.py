@@ -3,7 +3,7 @@
 Sub-commands:
   demo                      the default headless demo: ``run`` on the reference scene
   run                       rough view, active scan, pick (and place) the selected objects
-  bench perception|sim|planning|grasp|workers
+  bench perception|sim|planning|grasp|workers|frames
                             benchmarks that print figures and write JSON
   perceive FILE             one point cloud from disk (.pcd/.ply/.npy) through the
                             scene filter and estimates; prints, writes JSON (+ PNG)
@@ -66,6 +66,14 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
     _add_scene_benchmark_options(w, scenes=6, workers=2, workers_help="workers of the second run (default 2)",
                                  out="out/bench_workers", out_help="folder for both runs' JSON, summaries and plots")
     _add_config_options(w, "scene_filter, obb, camera, sim, motion, scan, grasp", "sim.object_count=[1,3]")
+    f = bsub.add_parser(
+        "frames", help="frames on demand vs continuous frames: throughput and per-object outcomes",
+        description="Runs 'bench grasp' twice on the same seeded scenes (camera.frames=continuous, "
+                    "the old path, then on_demand) and prints both throughputs, the speed-up and "
+                    "every object whose outcome (picked, failed stage and reason) differs.")
+    _add_scene_benchmark_options(f, scenes=6, workers=2, workers_help="worker processes of both runs",
+                                 out="out/bench_frames", out_help="folder for both runs' JSON, summaries and plots")
+    _add_config_options(f, "scene_filter, obb, camera, sim, motion, scan, grasp", "sim.object_count=[1,3]")
     _add_clutter_bench(bsub)
 
 
@@ -179,7 +187,7 @@ def _add_pick_options(p: argparse.ArgumentParser, out: str) -> None:
     p.add_argument("--json", type=Path, default=None, help="report path (default OUT/report.json)")
     p.add_argument("--no-video", action="store_true", help="skip the MP4")
     p.add_argument("--no-scan", action="store_true", help="pick from the rough (oblique) view")
-    _add_config_options(p, "scene_filter, obb, camera, sim, clutter, motion, scan, grasp",
+    _add_config_options(p, "scene_filter, obb, camera, sim, clutter, motion, scan, grasp, video",
                         "grasp.lift_height_m=0.12")
 
 
@@ -228,6 +236,61 @@ def _print_json(result: dict) -> None:
     print(dumps(result, sort_keys=True))
 
 
+def _run_bench(args: argparse.Namespace) -> None:
+    """The ``bench`` sub-commands."""
+    if args.bench == "perception":
+        from .bench.perception_bench import run_perception_benchmark
+
+        _print_json(run_perception_benchmark(
+            frames=args.frames, json_path=args.json,
+            baseline_frames=0 if args.no_baseline else args.baseline_frames))
+    elif args.bench == "sim":
+        from .bench.sim_bench import run_sim_benchmark
+
+        _print_json(run_sim_benchmark(seconds=args.seconds, json_path=args.json))
+    elif args.bench == "planning":
+        from .bench.planning_bench import run_planning_benchmark
+
+        _print_json(run_planning_benchmark(scenes=args.scenes, seed=args.seed,
+                                           json_path=args.json, overrides=(args.config, args.sets)))
+    elif args.bench == "grasp":
+        from .bench.grasp_bench import headline, run_grasp_benchmark
+
+        result = run_grasp_benchmark(scenes=args.scenes, seed=args.seed, workers=args.workers,
+                                     json_path=args.json, out_dir=args.out,
+                                     progress=not args.no_progress,
+                                     scene_timeout_s=args.scene_timeout,
+                                     overrides=(args.config, args.sets),
+                                     backend=args.backend, address=args.address)
+        print(headline(result))
+        print(f"JSON: {args.json}\nsummary: {result['summary']}")
+    elif args.bench == "clutter":
+        from .bench.clutter_bench import headline as clutter_headline
+        from .bench.clutter_bench import run_clutter_benchmark
+
+        result = run_clutter_benchmark(
+            protocol=args.protocol, objects=args.objects, rounds=args.rounds, seeds=args.seed,
+            workers=args.workers, json_path=args.json, out_dir=args.out,
+            progress=not args.no_progress, round_timeout_s=args.round_timeout,
+            overrides=(args.config, args.sets), backend=args.backend, address=args.address)
+        print(clutter_headline(result))
+        print(f"JSON: {args.json}\nsummary: {result['summary']}")
+    elif args.bench == "workers":
+        from .bench.workers_bench import run_workers_benchmark
+
+        _print_json(run_workers_benchmark(scenes=args.scenes, seed=args.seed, workers=args.workers,
+                                          json_path=args.json, out_dir=args.out,
+                                          progress=not args.no_progress,
+                                          overrides=(args.config, args.sets)))
+    elif args.bench == "frames":
+        from .bench.frames_bench import run_frames_benchmark
+
+        _print_json(run_frames_benchmark(scenes=args.scenes, seed=args.seed, workers=args.workers,
+                                         json_path=args.json, out_dir=args.out,
+                                         progress=not args.no_progress,
+                                         overrides=(args.config, args.sets)))
+
+
 def _run(args: argparse.Namespace) -> int:
     if args.command == "demo":
         from .demo import run_demo
@@ -238,50 +301,7 @@ def _run(args: argparse.Namespace) -> int:
 
         return run_command(args)
     if args.command == "bench":
-        if args.bench == "perception":
-            from .bench.perception_bench import run_perception_benchmark
-
-            _print_json(run_perception_benchmark(
-                frames=args.frames, json_path=args.json,
-                baseline_frames=0 if args.no_baseline else args.baseline_frames))
-        elif args.bench == "sim":
-            from .bench.sim_bench import run_sim_benchmark
-
-            _print_json(run_sim_benchmark(seconds=args.seconds, json_path=args.json))
-        elif args.bench == "planning":
-            from .bench.planning_bench import run_planning_benchmark
-
-            _print_json(run_planning_benchmark(scenes=args.scenes, seed=args.seed,
-                                               json_path=args.json, overrides=(args.config, args.sets)))
-        elif args.bench == "grasp":
-            from .bench.grasp_bench import headline, run_grasp_benchmark
-
-            result = run_grasp_benchmark(scenes=args.scenes, seed=args.seed, workers=args.workers,
-                                         json_path=args.json, out_dir=args.out,
-                                         progress=not args.no_progress,
-                                         scene_timeout_s=args.scene_timeout,
-                                         overrides=(args.config, args.sets),
-                                         backend=args.backend, address=args.address)
-            print(headline(result))
-            print(f"JSON: {args.json}\nsummary: {result['summary']}")
-        elif args.bench == "clutter":
-            from .bench.clutter_bench import headline as clutter_headline
-            from .bench.clutter_bench import run_clutter_benchmark
-
-            result = run_clutter_benchmark(
-                protocol=args.protocol, objects=args.objects, rounds=args.rounds, seeds=args.seed,
-                workers=args.workers, json_path=args.json, out_dir=args.out,
-                progress=not args.no_progress, round_timeout_s=args.round_timeout,
-                overrides=(args.config, args.sets), backend=args.backend, address=args.address)
-            print(clutter_headline(result))
-            print(f"JSON: {args.json}\nsummary: {result['summary']}")
-        elif args.bench == "workers":
-            from .bench.workers_bench import run_workers_benchmark
-
-            _print_json(run_workers_benchmark(scenes=args.scenes, seed=args.seed, workers=args.workers,
-                                              json_path=args.json, out_dir=args.out,
-                                              progress=not args.no_progress,
-                                              overrides=(args.config, args.sets)))
+        _run_bench(args)
         return 0
     if args.command == "perceive":
         from .perceive import run_perceive

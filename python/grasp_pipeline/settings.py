@@ -36,6 +36,7 @@ SECTIONS: Mapping[str, tuple[str, str]] = MappingProxyType({
     "scan": ("grasp_pipeline.orchestration.config", "ScanConfig"),
     "grasp": ("grasp_pipeline.orchestration.config", "GraspConfig"),
     "declutter": ("grasp_pipeline.orchestration.config", "DeclutterConfig"),
+    "video": ("grasp_pipeline.report.config", "VideoConfig"),
 })
 
 

@@ -96,7 +96,7 @@ def _stages(system: System, settings: Settings, report: RunReport, snapshots, se
     rough_tids = {int(t.tid) for t in system.loop.tracks()}
     if scan:
         _scan(system, settings, report, snapshots)
-    t0 = time.perf_counter()
+    t0, sim0 = time.perf_counter(), float(system.world.time_s)
     ctx = PickContext(system.rt, system.loop, system.action, system.scanner if scan else None,
                       settings, source, place)
     if declutter and not select:
@@ -107,6 +107,13 @@ def _stages(system: System, settings: Settings, report: RunReport, snapshots, se
         for xy in _targets(system, settings, report, select, rough_tids):
             report.picks.append(pick_object(ctx, xy))
     report.timings["picks_s"] = time.perf_counter() - t0
+    _real_time(report, "picks", float(system.world.time_s) - sim0, report.timings["picks_s"])
+
+
+def _real_time(report: RunReport, name: str, sim_s: float, wall_s: float) -> None:
+    """``<name>_sim_s`` and ``<name>_real_time_factor`` (simulated seconds per wall second)."""
+    report.timings[f"{name}_sim_s"] = sim_s
+    report.timings[f"{name}_real_time_factor"] = sim_s / wall_s if wall_s > 0 else 0.0
 
 
 def _check_outputs(out_dir: Path, json_path, video: bool) -> None:
@@ -115,8 +122,10 @@ def _check_outputs(out_dir: Path, json_path, video: bool) -> None:
         check_writable(json_path, "report file (--json)")
 
 
-def _recorders(system: System, out_dir: Path, video: bool, report: RunReport):
-    """(snapshots, video recorder or None); subscribes them and the pick evaluation."""
+def _recorders(system: System, out_dir: Path, video: bool, report: RunReport, settings: Settings):
+    """(snapshots, video recorder or None); subscribes them and the pick evaluation. The
+    video renders its own view at ``settings.video``'s rate and size on the event stream's
+    ticks — never through the eye-in-hand camera."""
     snapshots = SnapshotRecorder(out_dir, SNAPSHOTS).attach(system.events)
     PickEvaluator(system.world).attach(system.events)
     if not video:
@@ -125,12 +134,13 @@ def _recorders(system: System, out_dir: Path, video: bool, report: RunReport):
     from ..sim.scene_view import SceneView
 
     try:
-        view = SceneView(system.world)
+        view = SceneView(system.world, settings.video.video_width_px, settings.video.video_height_px)
     except RenderUnavailable as exc:
         log.warning("no video: %s", exc)
         report.warnings.append(f"video skipped: {exc}")
         return snapshots, None
-    recorder = VideoRecorder(view.render, out_dir / "run.mp4", on_close=view.close)
+    recorder = VideoRecorder(view.render, out_dir / "run.mp4", fps=settings.video.video_fps,
+                             on_close=view.close)
     return snapshots, recorder.attach(system.events)
 
 
@@ -162,7 +172,7 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
     system = build_system(spec, settings)
     recorders = None
     try:
-        recorders = _recorders(system, out_dir, video, report)
+        recorders = _recorders(system, out_dir, video, report, settings)
         if prepare is not None:  # after the built-in recorders: the pick evaluation comes first
             prepare(system)
         _stages(system, settings, report, recorders[0], select, scan, place,
@@ -181,8 +191,10 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
         report.status, report.error = STATUS_FAILED, f"internal error {type(exc).__name__}: {exc}"
         raise
     finally:
+        sim_s = float(system.world.time_s)
         _close(system, report, recorders)
         report.timings["wall_s"] = time.perf_counter() - wall0
+        _real_time(report, "run", sim_s, report.timings["wall_s"])
         if json_path is not None:
             write_json(json_path, report)
     return report

@@ -63,8 +63,17 @@ def summarize(report: dict) -> str:
         lines.append(f"warning: {w}")
     t = report.get("timings", {})
     if t:
-        lines.append("wall time: " + ", ".join(f"{k} {v:.1f}" for k, v in t.items() if v is not None))
+        wall = {k: v for k, v in t.items() if v is not None and not _is_sim_figure(k)}
+        lines.append("wall time: " + ", ".join(f"{k} {v:.1f}" for k, v in wall.items()))
+        sim = {k: v for k, v in t.items() if v is not None and _is_sim_figure(k)}
+        if sim:
+            lines.append("simulated: " + ", ".join(f"{k} {v:.1f}" for k, v in sim.items()))
     return "\n".join(lines)
+
+
+def _is_sim_figure(key: str) -> bool:
+    """Timings keys that are simulated seconds or real-time factors, not wall seconds."""
+    return key.endswith("_sim_s") or key.endswith("_real_time_factor")
 
 
 @contextmanager

@@ -56,7 +56,8 @@ ACCURACY_METRICS = {"center_mm": "center_err_mm", "width_mm": "width_err_mm",
 #: Top-level JSON keys (and per-scene keys) that hold timings — the only fields allowed to
 #: differ between two runs with the same seed.
 TIMING_KEYS = ("wall_time_s", "scenes_per_minute", "time_per_scene_s", "time_per_object_s",
-               "time_per_stage_s", "timings", "wall_s")
+               "time_per_stage_s", "timings", "wall_s", "real_time_factor", "cpu_time_per_scene_s",
+               "cpu_real_time_factor", "scenes_per_minute_idle_cores")
 #: The issue's targets: name → (JSON path, comparison, value).
 TARGETS = {
     "pick success": (("success_rate",), ">=", 0.95),
@@ -450,9 +451,39 @@ def _success_groups(records: list[dict], objs: list[dict]) -> dict:
     }
 
 
+def _real_time_factors(records: list[dict]) -> dict:
+    """Simulated seconds per wall second over all scenes (sums, not a mean of ratios): of the
+    whole run (``run``) and of the pick loop alone (``pick_loop``); None without data."""
+    out: dict[str, Optional[float]] = {}
+    for name, sim_key, wall_key in (("run", "run_sim_s", "wall_s"), ("pick_loop", "picks_sim_s", "picks_s")):
+        rows = [r["timings"] for r in records if r["timings"].get(sim_key) is not None
+                and r["timings"].get(wall_key)]
+        wall = sum(t[wall_key] for t in rows)
+        out[name] = round(sum(t[sim_key] for t in rows) / wall, 3) if wall > 0 else None
+    return out
+
+
+def _is_wall_timing(key: str) -> bool:
+    return not (key.endswith("_sim_s") or key.endswith("_real_time_factor") or key.endswith("cpu_s"))
+
+
+def _cpu_figures(records: list[dict], workers: int) -> dict:
+    """CPU-time figures of the scene processes (robust to other load on the machine):
+    the median CPU seconds per scene, simulated seconds per CPU second, and the throughput
+    ``workers`` otherwise idle cores would give (60 N W / sum of CPU seconds: perfect
+    packing; the parent's scheduling is not counted)."""
+    cpu = [r["timings"]["process_cpu_s"] for r in records if r["timings"].get("process_cpu_s")]
+    sim = [r["timings"].get("run_sim_s") or 0.0 for r in records if r["timings"].get("process_cpu_s")]
+    total = sum(cpu)
+    return {"cpu_time_per_scene_s": stats(cpu),
+            "cpu_real_time_factor": round(sum(sim) / total, 3) if total > 0 else None,
+            "scenes_per_minute_idle_cores": round(60.0 * len(cpu) * workers / total, 4) if total > 0 else None}
+
+
 def _timing_figures(records: list[dict], wall_time_s: float) -> dict:
-    """Time per scene, per object and per stage, the wall time and the throughput."""
-    stage_keys = sorted({k for r in records for k in r["timings"]})
+    """Time per scene, per object and per stage, the wall time, the throughput and the
+    real-time factors (simulated per wall seconds)."""
+    stage_keys = sorted({k for r in records for k in r["timings"] if _is_wall_timing(k)})
     scene_wall = [r["timings"].get("wall_s") for r in records]
     per_object = [r["timings"]["wall_s"] / r["objects"] for r in records
                   if r["objects"] and r["timings"].get("wall_s") is not None]
@@ -462,6 +493,7 @@ def _timing_figures(records: list[dict], wall_time_s: float) -> dict:
         "time_per_stage_s": {k: stats(r["timings"].get(k) for r in records) for k in stage_keys},
         "wall_time_s": round(float(wall_time_s), 3),
         "scenes_per_minute": None if wall_time_s <= 0 else round(60.0 * len(records) / wall_time_s, 4),
+        "real_time_factor": _real_time_factors(records),
     }
 
 
@@ -488,6 +520,7 @@ def aggregate(records: list[dict], seed: int, workers: int, wall_time_s: float,
         **_perception_figures(records, objs),
         **_success_groups(records, objs),
         **_timing_figures(records, wall_time_s),
+        **_cpu_figures(records, workers),
         "workers": int(workers),
         "scene_rows": [_scene_row(r) for r in records],
     }
@@ -584,6 +617,10 @@ def headline(result: dict) -> str:
         f"height {f(acc['height_mm'])} mm, yaw {f(acc['yaw_deg'])} deg",
         f"time per scene: median {result['time_per_scene_s']['median']} s; wall {result['wall_time_s']:.1f} s "
         f"with {result['workers']} worker(s) -> {result['scenes_per_minute']} scenes/min",
+        f"real-time factor (simulated s per wall s): run {result['real_time_factor']['run']}, "
+        f"pick loop {result['real_time_factor']['pick_loop']}; per CPU s {result.get('cpu_real_time_factor')}",
+        f"CPU per scene: median {result['cpu_time_per_scene_s']['median']} s -> "
+        f"{result.get('scenes_per_minute_idle_cores')} scenes/min on {result['workers']} idle core(s)",
     ]
     for stage, f_ in result["failures_by_stage"].items():
         lines.append(f"  failed at {stage}: {f_['count']} ({', '.join(f'{k} x{v}' for k, v in f_['reasons'].items())})")

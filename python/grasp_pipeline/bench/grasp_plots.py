@@ -295,6 +295,9 @@ def _md_headline(r: dict) -> list[str]:
         ["time per object (median)", f"{_fmt(r['time_per_object_s']['median'], 1)} s"],
         ["wall time", f"{r['wall_time_s']:.1f} s"],
         ["throughput", f"{_fmt(r['scenes_per_minute'], 2)} scenes/min"],
+        ["real-time factor (run / pick loop)",
+         f"{_fmt((r.get('real_time_factor') or {}).get('run'), 1)} / "
+         f"{_fmt((r.get('real_time_factor') or {}).get('pick_loop'), 1)}"],
     ])
     return L
 

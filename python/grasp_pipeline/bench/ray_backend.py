@@ -52,8 +52,12 @@ def _job(run_fn, task: tuple, log_level: int, tag: str) -> dict:
     """The body of a Ray task: run one job in this (fresh) worker process."""
     from ..logs import setup_logging
 
+    from .scheduler import add_process_cpu
+
     setup_logging(log_level, tag=f"[{tag} {task[0]}] ")
-    return run_fn(task)
+    rec = run_fn(task)
+    add_process_cpu(rec)
+    return rec
 
 
 def _start(ray, address, workers: int, env: dict):

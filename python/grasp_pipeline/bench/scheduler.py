@@ -79,6 +79,13 @@ def worker_env() -> dict:
     return env
 
 
+def add_process_cpu(rec: dict) -> None:
+    """CPU seconds of this whole job process (start-up and imports included, all threads):
+    what the job costs on an otherwise idle core, whatever else loads the machine."""
+    if isinstance(rec.get("timings"), dict):
+        rec["timings"]["process_cpu_s"] = time.process_time()
+
+
 def _child_main(conn, run_fn, task: tuple, log_level: int, tag: str) -> None:
     """Entry point of a spawned job process: run the job, send the record, exit."""
     from ..logs import setup_logging
@@ -88,6 +95,7 @@ def _child_main(conn, run_fn, task: tuple, log_level: int, tag: str) -> None:
         rec = run_fn(task)
     except BaseException as exc:  # (run_fn should catch Exception; this is e.g. SystemExit)
         rec = {"index": task[0], "error": f"{type(exc).__name__}: {exc}", "crashed": True}
+    add_process_cpu(rec)
     conn.send(rec)
     conn.close()
 

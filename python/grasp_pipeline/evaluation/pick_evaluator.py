@@ -15,7 +15,7 @@ from typing import Optional
 import numpy as np
 
 from ..orchestration.events import EventBus, PickEvent, StageEvent, Tick
-from ..sim.ground_truth import object_truths
+from ..sim.ground_truth import object_body_id, object_truths
 
 #: The report's "lifted" threshold [m] (an object counts as held while ≥ this above its start).
 MIN_LIFT_EVAL_M = 0.05
@@ -66,6 +66,7 @@ class PickEvaluator:
         self.name: Optional[str] = None
         self.z0 = math.nan
         self.samples: list = []
+        self._body: Optional[int] = None  # MuJoCo body id of the followed object
 
     def attach(self, events: EventBus) -> "PickEvaluator":
         events.subscribe(StageEvent, self.on_stage)
@@ -77,16 +78,15 @@ class PickEvaluator:
         if ev.name == "pick_start":
             x, y = (float(v) for v in ev.detail.split())
             self.name, self.z0, self.samples = nearest_truth_name(self.world, (x, y)), math.nan, []
+            self._body = None if self.name is None else object_body_id(self.world, self.name)
 
     def on_tick(self, ev: Tick) -> None:
-        if self.name is None:
+        """Sample the followed object's height (every tick: read straight from the body)."""
+        if self.name is None or self._body is None:
             return
-        for t in object_truths(self.world):
-            if t.name == self.name:
-                z = float(t.position_m[2])
-                self.z0 = z if math.isnan(self.z0) else self.z0
-                self.samples.append((float(ev.time_s), z))
-                return
+        z = float(self.world.data.xpos[self._body][2])
+        self.z0 = z if math.isnan(self.z0) else self.z0
+        self.samples.append((float(ev.time_s), z))
 
     def on_pick(self, ev: PickEvent) -> None:
         row, name = ev.result, self.name

@@ -5,6 +5,13 @@
 the world. It keeps what a consumer needs at any time: the latched plane and band, the
 tracks, the latest frame, the ready (start-up) camera pose, liveness (``stale``) and, after
 a selection, the best grasp re-resolved from the anchor on every frame.
+
+Liveness with frames on demand: the camera renders only while a consumer looks, so "no
+frame for ``stale_timeout_s``" is measured on the camera's *looking clock*
+(``looking_time_s``: simulated time during which frames were requested), not on the
+wall of simulated time. A motion during which nobody looks does not make perception
+stale; a camera that delivers nothing for ``stale_timeout_s`` while someone looks does.
+With continuous frames the looking clock is the simulated clock (the old rule).
 """
 
 from __future__ import annotations
@@ -40,8 +47,12 @@ class PerceptionLoop:
 
     def __init__(self, session: PerceptionSession, scan_config: ScanConfig | None = None,
                  ready_camera_pose: Optional[np.ndarray] = None,
-                 events: Optional[EventBus] = None) -> None:
+                 events: Optional[EventBus] = None, camera=None) -> None:
+        """``camera``: the robot's camera (its ``looking_time_s`` clocks liveness); None:
+        liveness on the frames' simulated time."""
         self.session = session
+        self.camera = camera
+        self._looked_at_frame_s: Optional[float] = None  # looking clock at the latest frame
         self.events = events if events is not None else EventBus()
         self.config = scan_config or ScanConfig()
         self.selector = Selector(fallback_limit_m=self.config.select_max_distance_m)
@@ -66,6 +77,7 @@ class PerceptionLoop:
             self.ready_camera_pose = T.copy()
         self.latest = FrameInfo(float(frame.time_s), T, res, None if q is None else np.array(q))
         self.frames += 1
+        self._looked_at_frame_s = self._looking_clock(float(frame.time_s))
         self.stale_reported = False
         # Per-frame view labels ("#0 nadir, #1 oblique") are DEBUG, and only when they change;
         # the stages (scan probes, picks) log their own decisions at INFO.
@@ -109,10 +121,21 @@ class PerceptionLoop:
     def last_frame_time_s(self) -> Optional[float]:
         return None if self.latest is None else self.latest.time_s
 
+    def _looking_clock(self, now_s: float) -> float:
+        return now_s if self.camera is None else float(self.camera.looking_time_s)
+
+    def unseen_looking_s(self, now_s: float) -> Optional[float]:
+        """Looking-clock seconds since the latest frame (None: no frame yet)."""
+        if self._looked_at_frame_s is None:
+            return None
+        return self._looking_clock(now_s) - self._looked_at_frame_s
+
     def stale(self, now_s: float) -> bool:
-        """No frame for ``stale_timeout_s`` (simulated time) = upstream dead."""
-        t = self.last_frame_time_s()
-        return t is None or now_s - t > self.config.stale_timeout_s
+        """Upstream dead: no frame ever, or none for ``stale_timeout_s`` of *looking* time
+        (simulated seconds during which frames were requested; see the module doc). Time
+        in which nobody requested frames (a motion) does not count: no frame was due."""
+        unseen = self.unseen_looking_s(now_s)
+        return unseen is None or unseen > self.config.stale_timeout_s
 
     def report_if_stale(self, now_s: float) -> bool:
         """Log once and drop the published grasp when upstream is dead (SPEC 6)."""
@@ -120,9 +143,10 @@ class PerceptionLoop:
             return False
         if not self.stale_reported:
             t = self.last_frame_time_s()
+            unseen = self.unseen_looking_s(now_s)
             log.error("perception is stale: no camera frame for %s (limit %.1f s); "
                       "not acting on old estimates",
-                      "ever" if t is None else f"{now_s - t:.2f} s", self.config.stale_timeout_s)
+                      "ever" if t is None else f"{unseen:.2f} s of looking", self.config.stale_timeout_s)
             self.stale_reported = True
         self.selector.best_grasp = None
         return True

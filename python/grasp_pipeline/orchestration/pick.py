@@ -2,10 +2,15 @@
 
 :func:`pick_object` is the sequence the run performs for every target position:
 
-1. let ``settle_view_s`` of fresh frames arrive;
-2. re-probe (ours): a NADIR track retires ``nadir_hold_s`` after it was last seen (the camera
-   looks at the tray while placing) and an oblique view misjudges what a grasp needs, so an
-   object whose track is no longer NADIR — or is gone — is measured from above again;
+1. let ``settle_view_s`` of fresh frames arrive (looking: the camera renders only while a
+   pick looks — here, during a re-probe's dwell and during the selection's verification;
+   the grasp action's motions render nothing);
+2. re-probe (ours): a NADIR track retires ``nadir_hold_s`` after it was last seen (judged
+   when a frame arrives, after that frame's observations: with frames on demand, at the
+   settle view, for an object not in view there; with continuous frames also while the
+   camera looks at the tray during a place) and an oblique view misjudges what a grasp
+   needs, so an object whose track is no longer NADIR — or is gone — is measured from above
+   again;
 3. select by position (SPEC 5) and verify that best grasps actually arrive (a dead upstream
    must not look like success);
 4. ask the :class:`~.grasp_source.GraspSource` for candidates and run the grasp action.
@@ -90,7 +95,7 @@ def _select_and_verify(ctx: PickContext, xy, row: PickResult):
         row.failed_stage, row.message = "SELECT", sel.message
         return None
     if not ctx.rt.spin_until(lambda: loop.selector.published >= scan_cfg.select_verify_frames,
-                             scan_cfg.stale_timeout_s):
+                             scan_cfg.stale_timeout_s, look=True):
         row.failed_stage = "SELECT"
         row.message = f"selected, but no best grasp arrived within {scan_cfg.stale_timeout_s} s"
         loop.selector.clear()

@@ -8,13 +8,20 @@ physics step. Camera frames reach perception through the world's frame listeners
 perception runs at the camera rate whoever steps. A trigger such as ``scan.trigger()``
 therefore returns at once and the work happens while the caller spins the runtime —
 the non-blocking service semantics of SPEC 6, without threads.
+
+Frames on demand: the camera renders only while someone looks
+(:meth:`Runtime.looking`, the robot's ``request_frames``). :meth:`Runtime.spin` looks by
+default (it is the "wait here and watch" of the rough view and the settle views);
+:meth:`Runtime.spin_until` looks only when asked; tasks open their own looks (the scan's
+dwell). Motions look at nothing, so they run without rendering.
 """
 
 from __future__ import annotations
 
 import logging
+from contextlib import contextmanager, nullcontext
 from dataclasses import dataclass, field
-from typing import Any, Callable, Generator, Optional
+from typing import Any, Callable, ContextManager, Generator, Iterator, Optional
 
 from .events import EventBus, Tick
 
@@ -65,19 +72,31 @@ class Runtime:
         if self.events.wants(Tick):
             self.events.publish(Tick(float(self.world.time_s)))
 
-    def spin_until(self, done: Callable[[], bool], timeout_s: float) -> bool:
-        """Step until ``done()`` (True) or ``timeout_s`` of simulated time passed (False)."""
+    @contextmanager
+    def looking(self) -> Iterator[None]:
+        """Camera frames are wanted while this context is open (the robot's
+        ``request_frames``; a robot without a camera makes it a no-op)."""
+        with _frame_request(self.world):
+            yield
+
+    def spin_until(self, done: Callable[[], bool], timeout_s: float, look: bool = False) -> bool:
+        """Step until ``done()`` (True) or ``timeout_s`` of simulated time passed (False);
+        ``look``: request camera frames meanwhile."""
         t_end = self.world.time_s + timeout_s
-        while not done():
-            if self.world.time_s >= t_end:
-                return False
-            self.step()
+        with self.looking() if look else nullcontext():
+            while not done():
+                if self.world.time_s >= t_end:
+                    return False
+                self.step()
         return True
 
-    def spin(self, duration_s: float) -> None:
+    def spin(self, duration_s: float, look: bool = True) -> None:
+        """Let ``duration_s`` of simulated time pass; ``look`` (default): watching, i.e.
+        with camera frames requested (rough view, settle views)."""
         t_end = self.world.time_s + duration_s
-        while self.world.time_s < t_end - 0.5 * self.world.timestep_s:
-            self.step()
+        with self.looking() if look else nullcontext():
+            while self.world.time_s < t_end - 0.5 * self.world.timestep_s:
+                self.step()
 
     def run(self, task: Task, timeout_s: float) -> Any:
         """Spin until ``task`` ends; re-raise its error; TimeoutError after ``timeout_s``."""
@@ -96,3 +115,8 @@ def wait_s(world, duration_s: float) -> TaskGen:
     t_end = world.time_s + duration_s
     while world.time_s < t_end - 0.5 * world.timestep_s:
         yield
+
+
+def _frame_request(world) -> ContextManager[None]:
+    request = getattr(world, "request_frames", None)
+    return nullcontext() if request is None else request()

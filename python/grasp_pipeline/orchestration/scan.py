@@ -7,7 +7,9 @@ ROUGH takes each track's rough centre and fixes the order (start joints are reco
 trigger); upstream liveness is checked once, before the first motion; each probe moves
 the camera above object i (SPEC 3 pose, planned on the perceived scene), waits for
 ``dwell_frames`` new frames, then up to ``dwell_timeout_s`` until *that* object has a NADIR
-estimate produced after arrival, and logs every track's view angle. A planning or motion
+estimate produced after arrival, and logs every track's view angle. Camera frames are
+requested for the dwell only (frames on demand): the probe motions and RETURN render
+nothing. A planning or motion
 failure stops probing (the rest are skipped). RETURN to the start joints runs whenever
 ``return_to_start`` is set and start joints were recorded, also after a failure. At the end:
 stage IDLE, i/N = 0, the liveness flags reset. :attr:`status` is readable at any time.
@@ -153,6 +155,11 @@ class ActiveScan:
                 yield from self._return(start_q, out)
 
     def _dwell(self, i: int, centre: np.ndarray, probe: ProbeResult):
+        """Task: look from above object ``i`` (frames requested from arrival to the end)."""
+        with self.rt.looking():
+            yield from self._dwell_looking(i, centre, probe)
+
+    def _dwell_looking(self, i: int, centre: np.ndarray, probe: ProbeResult):
         world, cfg = self.rt.world, self.config
         arrival_s = world.time_s
         self.rt.events.publish(StageEvent(float(arrival_s), "probe_arrived",

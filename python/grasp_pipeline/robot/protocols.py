@@ -11,7 +11,7 @@ Units: joints in rad (rad/s), lengths in m, forces in N, times in s.
 from __future__ import annotations
 
 import enum
-from typing import Callable, Optional, Protocol, runtime_checkable
+from typing import Callable, ContextManager, Optional, Protocol, runtime_checkable
 
 import numpy as np
 
@@ -95,7 +95,13 @@ class Gripper(Protocol):
 
 @runtime_checkable
 class Camera(Protocol):
-    """The eye-in-hand depth camera: frames carry the camera pose at the instant of capture."""
+    """The eye-in-hand depth camera: frames carry the camera pose at the instant of capture.
+
+    Frames on demand: the camera delivers frames (at its rate) only while at least one
+    request is open — ``with camera.request_frames(): ...`` around every phase in which a
+    consumer looks (rough view, scan dwell, the views before and after a grasp). A camera
+    may also deliver frames continuously; consumers must not rely on frames they did not
+    request. :attr:`looking_time_s` is the looking clock liveness is judged on."""
 
     def camera_pose(self) -> np.ndarray:
         """World pose (4x4) of the optical frame now."""
@@ -104,6 +110,13 @@ class Camera(Protocol):
         """Call ``listener(frame)`` for every frame the camera delivers."""
 
     def remove_frame_listener(self, listener: Callable[[Frame], None]) -> None: ...
+
+    def request_frames(self) -> ContextManager[None]:
+        """Frames are wanted while this context is open (requests nest, counted)."""
+
+    @property
+    def looking_time_s(self) -> float:
+        """Seconds of the robot's clock during which frames were requested (monotonic)."""
 
 
 @runtime_checkable

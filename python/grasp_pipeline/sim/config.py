@@ -14,6 +14,8 @@ from ..config import load_config
 from ..exceptions import ConfigError
 
 CAMERA_BACKENDS = ("auto", "gl", "raycast")
+#: When frames are rendered: only while requested (``on_demand``) or always (``continuous``).
+FRAME_MODES = ("on_demand", "continuous")
 
 
 def _check_range(name: str, rng: tuple[float, ...], lo: float = 0.0) -> None:
@@ -26,12 +28,15 @@ class CameraConfig:
     """Depth camera: image size, field of view, rate, valid range, noise model, backend;
     ``rgb``: deliver a colour image aligned with the depth (``Frame.rgb``); ``labels``: also
     compute per-pixel object labels (evaluation only, read through the ground-truth module,
-    never in the frame)."""
+    never in the frame); ``frames``: ``on_demand`` renders a frame only while a consumer
+    requests frames (``SimWorld.request_frames``), ``continuous`` at ``rate_hz`` whenever a
+    frame listener exists (the old path, kept for comparisons)."""
 
     width_px: int = 640
     height_px: int = 480
     vfov_deg: float = 58.0
     rate_hz: float = 30.0
+    frames: str = "on_demand"
     min_range_m: float = 0.12
     max_range_m: float = 3.0
     noise_sigma_m: float = 0.002
@@ -60,6 +65,8 @@ class CameraConfig:
             raise ConfigError("noise_sigma_m must be >= 0 and noise_ref_range_m > 0")
         if not 0 < self.grazing_max_deg <= 90:
             raise ConfigError(f"grazing_max_deg must be in (0, 90], got {self.grazing_max_deg}")
+        if self.frames not in FRAME_MODES:
+            raise ConfigError(f"camera.frames must be one of {FRAME_MODES}, got {self.frames!r}")
         if self.backend not in CAMERA_BACKENDS:
             raise ConfigError(f"backend must be one of {CAMERA_BACKENDS}, got {self.backend!r}")
         for flag in ("rgb", "labels"):

@@ -65,6 +65,15 @@ def object_truths(world: SimWorld) -> list[ObjectTruth]:
     return out
 
 
+def object_body_id(world: SimWorld, name: str) -> int | None:
+    """MuJoCo body id of the object ``name`` of the scene (None: no such object); its pose
+    is ``world.data.xpos/xmat[id]`` (what :func:`object_truths` reads)."""
+    for obj in world.scene.objects:
+        if obj.name == name:
+            return int(world.model.body(object_body_name(obj)).id)
+    return None
+
+
 def object_truth(world: SimWorld, name: str) -> ObjectTruth:
     """The truth about one object, by scene name (e.g. ``"blue_cube"``)."""
     for t in object_truths(world):

@@ -13,7 +13,11 @@ plus the objects of a :class:`~.scene_spec.SceneSpec` (added with ``MjSpec``), t
   limited to the effort, so closing on an object stalls there and holds by friction;
 * readouts (joints, velocities, finger gap and speed, flange/TCP/camera poses), contacts of
   robot geoms with non-robot geoms, and depth frames (``capture``, ``poll_frame``) at the
-  camera rate in simulated time.
+  camera rate in simulated time;
+* frames on demand (``camera.yaml`` ``frames: on_demand``): frame listeners are fed only
+  while someone requested frames (``with world.request_frames(): ...``, counted and
+  nestable), so motions during which nobody looks run without rendering;
+  ``frames: continuous`` renders whenever a listener exists (the old path).
 
 Ground truth about objects is deliberately *not* offered here; evaluation code reads it
 through :mod:`grasp_pipeline.sim.ground_truth`.
@@ -23,7 +27,8 @@ from __future__ import annotations
 
 import logging
 import math
-from typing import Callable
+from contextlib import contextmanager
+from typing import Callable, Iterator
 
 import mujoco
 import numpy as np
@@ -162,6 +167,7 @@ class SimWorld:
         self._tcp_site = m.site(TCP_SITE).id
         base_root = m.body(BASE_BODY).id
         self._robot_geom = m.body_rootid[m.geom_bodyid] == base_root
+        self._geom_names: list[str] | None = None
         self._check_table_height()
 
         start_q = np.asarray(self.scene.start_q, dtype=float)
@@ -181,6 +187,9 @@ class SimWorld:
         self.camera: DepthCamera | None = DepthCamera(m, self.data, cam_cfg) if camera else None
         self._next_frame_time_s = float(self.data.time)
         self._frame_listeners: list[Callable[[Frame], None]] = []
+        self._continuous_frames = cam_cfg.frames == "continuous"
+        self._frame_requests = 0
+        self._looking_time_s = 0.0
 
     # ------------------------------------------------------------------ lifecycle
     def close(self) -> None:
@@ -365,23 +374,53 @@ class SimWorld:
     def step(self, n: int = 1) -> None:
         """Advance the physics by ``n`` steps, updating the controls before each.
 
-        When frame listeners are registered (:meth:`add_frame_listener`), a depth frame is
-        captured whenever one is due at the camera rate and handed to each listener, so
-        whoever steps the world (an executor, a gripper wait) keeps perception fed — the
-        camera behaves like a sensor publishing at its rate.
+        When frame listeners are registered (:meth:`add_frame_listener`) and frames are
+        wanted (:attr:`frames_requested`), a depth frame is captured whenever one is due at
+        the camera rate and handed to each listener, so whoever steps the world (an
+        executor, a gripper wait) keeps perception fed while someone looks — the camera
+        behaves like a sensor publishing at its rate on request.
         """
         m, d = self.model, self.data
         for _ in range(n):
             self._apply_controls()
             mujoco.mj_step(m, d)
+            if self._frame_requests:
+                self._looking_time_s += m.opt.timestep
+            elif not self._continuous_frames:
+                continue
             if self._frame_listeners:
                 frame = self.poll_frame()
                 if frame is not None:
                     for listener in list(self._frame_listeners):
                         listener(frame)
 
+    # ------------------------------------------------------------------ frames on demand
+    @contextmanager
+    def request_frames(self) -> Iterator[None]:
+        """Frames are wanted while this context is open (counted: requests nest). The first
+        frame is captured at the next step (never sooner than one camera period after the
+        previous frame), then one per period, until the last request closes."""
+        self._frame_requests += 1
+        try:
+            yield
+        finally:
+            self._frame_requests -= 1
+
+    @property
+    def frames_requested(self) -> bool:
+        """True when stepping delivers frames (continuous mode, or a request is open)."""
+        return self._continuous_frames or self._frame_requests > 0
+
+    @property
+    def looking_time_s(self) -> float:
+        """The looking clock [s]: simulated time during which frames were requested (in
+        continuous mode: all simulated time). Perception liveness is judged on it: a dead
+        camera is one that delivers nothing while someone looks."""
+        return self.time_s if self._continuous_frames else self._looking_time_s
+
     def add_frame_listener(self, listener: Callable[[Frame], None]) -> None:
-        """Call ``listener(frame)`` for every frame due while the world is stepped."""
+        """Call ``listener(frame)`` for every frame due while the world is stepped and
+        frames are requested (:meth:`request_frames`; always in continuous mode)."""
         if self.camera is None:
             raise ModelError("this SimWorld was created with camera=False: no frames to listen to")
         self._frame_listeners.append(listener)
@@ -400,8 +439,8 @@ class SimWorld:
                 after every step.
             max_duration_s: give up after this much simulated time (required with a predicate
                 unless you are sure it becomes true).
-            on_frame: if given, depth frames are captured at the camera rate (simulated time)
-                and passed to it.
+            on_frame: if given, depth frames are requested and captured at the camera rate
+                (simulated time) and passed to it.
 
         Returns True when the time was reached / the predicate became true, False on timeout.
         """
@@ -414,17 +453,21 @@ class SimWorld:
 
             def done() -> bool:
                 return self.time_s >= t_goal - 0.5 * self.timestep_s
-        if on_frame is not None:
-            self.add_frame_listener(on_frame)
+        if on_frame is None:
+            return self._step_until(done, t_limit)
+        self.add_frame_listener(on_frame)
         try:
-            while not done():
-                if self.time_s >= t_limit - 0.5 * self.timestep_s:
-                    return False
-                self.step()
-            return True
+            with self.request_frames():
+                return self._step_until(done, t_limit)
         finally:
-            if on_frame is not None:
-                self.remove_frame_listener(on_frame)
+            self.remove_frame_listener(on_frame)
+
+    def _step_until(self, done: Callable[[], bool], t_limit: float) -> bool:
+        while not done():
+            if self.time_s >= t_limit - 0.5 * self.timestep_s:
+                return False
+            self.step()
+        return True
 
     # ------------------------------------------------------------------ camera
     def capture(self) -> Frame:
@@ -449,8 +492,9 @@ class SimWorld:
 
     # ------------------------------------------------------------------ contacts
     def geom_name(self, geom_id: int) -> str:
-        name = self.model.geom(geom_id).name
-        return name if name else f"geom{geom_id}"
+        if self._geom_names is None:  # (names are fixed once the model is compiled)
+            self._geom_names = [self.model.geom(i).name or f"geom{i}" for i in range(self.model.ngeom)]
+        return self._geom_names[geom_id]
 
     def is_robot_geom(self, geom_id: int) -> bool:
         return bool(self._robot_geom[geom_id])
@@ -464,13 +508,15 @@ class SimWorld:
         """
         out: list[tuple[str, str]] = []
         d = self.data
-        for i in range(d.ncon):
-            c = d.contact[i]
-            g1, g2 = int(c.geom1), int(c.geom2)
-            r1, r2 = self._robot_geom[g1], self._robot_geom[g2]
-            if r1 == r2:
-                continue
-            rg, og = (g1, g2) if r1 else (g2, g1)
+        if d.ncon == 0:
+            return out
+        # Vectorised pre-filter (called at every monitored physics step): most contacts are
+        # object-table contacts; only robot / non-robot pairs are looked at one by one.
+        pairs = d.contact.geom
+        robot = self._robot_geom[pairs]
+        for i in np.flatnonzero(robot[:, 0] != robot[:, 1]):
+            g1, g2 = int(pairs[i, 0]), int(pairs[i, 1])
+            rg, og = (g1, g2) if robot[i, 0] else (g2, g1)
             other = self.geom_name(og)
             if not include_objects and other.startswith(OBJECT_PREFIX):
                 continue
