@@ -140,33 +140,37 @@ namespace {
 /// lists. The max and min of a*cos + b*sin over a point set are attained at hull vertices,
 /// and the vertices are original points, so spans over the hull equal spans over all
 /// points exactly -- at a fraction of the cost (a 5 cm top face: ~3k points, ~40 vertices).
+/// The points are sorted as (a, b) values, not through an index array: points that compare
+/// equal are identical, so the order, and hence the hull, is the same either way.
 void convex_hull_2d(const std::vector<double>& a, const std::vector<double>& b,
                     std::vector<double>* ha, std::vector<double>* hb) {
+  struct P2 {
+    double a, b;
+  };
   const std::size_t n = std::min(a.size(), b.size());
-  std::vector<std::size_t> idx(n);
-  for (std::size_t i = 0; i < n; ++i) idx[i] = i;
-  std::sort(idx.begin(), idx.end(), [&](std::size_t i, std::size_t j) {
-    return a[i] < a[j] || (a[i] == a[j] && b[i] < b[j]);
-  });
+  std::vector<P2> pts(n);
+  for (std::size_t i = 0; i < n; ++i) pts[i] = P2{a[i], b[i]};
+  std::sort(pts.begin(), pts.end(),
+            [](const P2& p, const P2& q) { return p.a < q.a || (p.a == q.a && p.b < q.b); });
   if (n < 3) {
-    for (std::size_t i : idx) { ha->push_back(a[i]); hb->push_back(b[i]); }
+    for (const P2& p : pts) { ha->push_back(p.a); hb->push_back(p.b); }
     return;
   }
-  auto cross = [&](std::size_t o, std::size_t p, std::size_t q) {
-    return (a[p] - a[o]) * (b[q] - b[o]) - (b[p] - b[o]) * (a[q] - a[o]);
+  auto cross = [](const P2& o, const P2& p, const P2& q) {
+    return (p.a - o.a) * (q.b - o.b) - (p.b - o.b) * (q.a - o.a);
   };
-  std::vector<std::size_t> hull(2 * n);
+  std::vector<P2> hull(2 * n);
   std::size_t k = 0;
   for (std::size_t i = 0; i < n; ++i) {  // lower hull
-    while (k >= 2 && cross(hull[k - 2], hull[k - 1], idx[i]) <= 0) --k;
-    hull[k++] = idx[i];
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+    hull[k++] = pts[i];
   }
   for (std::size_t i = n - 1, lower = k + 1; i-- > 0;) {  // upper hull
-    while (k >= lower && cross(hull[k - 2], hull[k - 1], idx[i]) <= 0) --k;
-    hull[k++] = idx[i];
+    while (k >= lower && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+    hull[k++] = pts[i];
   }
   hull.resize(k > 1 ? k - 1 : k);
-  for (std::size_t i : hull) { ha->push_back(a[i]); hb->push_back(b[i]); }
+  for (const P2& p : hull) { ha->push_back(p.a); hb->push_back(p.b); }
 }
 
 }  // namespace
