@@ -11,6 +11,7 @@
 //   4. band split into a packed candidate array, Euclidean clustering (clustering.cpp),
 //      labels mapped back to the input rows.
 #include "grasp_core/scene_filter.hpp"
+#include "simd_clones.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -96,7 +97,7 @@ constexpr std::size_t kPackBlockRows = 256;
 
 /// True when every value of `count` contiguous floats has |v| <= bound (NaN: false).
 /// A flat loop without early exit, so that it vectorises.
-bool all_within(const float* v, std::size_t count, float bound) {
+GRASP_SIMD_CLONES bool all_within(const float* v, std::size_t count, float bound) {
   unsigned int bad = 0;
   for (std::size_t i = 0; i < count; ++i) bad |= (std::abs(v[i]) <= bound) ? 0u : 1u;
   return bad == 0;
@@ -221,7 +222,8 @@ struct PlaneF {
 /// The coefficients are copied into locals and the arrays are restrict-qualified: a byte
 /// store may alias anything, which otherwise makes the compiler reload the coefficients
 /// for every point and keeps the loop from vectorising.
-int mark_inliers(const Packed& pk, const PlaneF& pf, float tau, std::uint8_t* __restrict inlier) {
+GRASP_SIMD_CLONES int mark_inliers(const Packed& pk, const PlaneF& pf, float tau,
+                                   std::uint8_t* __restrict inlier) {
   const std::size_t n = pk.size();
   const float* __restrict x = pk.x;
   const float* __restrict y = pk.y;
@@ -367,6 +369,16 @@ void report_out_of_range(const Packed& pk, const SceneFilterParams& params, bool
 /// Points per block of split_band's vectorised pre-count.
 constexpr std::size_t kBandBlockPoints = 256;
 
+/// Number of points i in [begin, end) strictly above the band: d(p_i) > band.
+GRASP_SIMD_CLONES unsigned int count_above(const float* __restrict x, const float* __restrict y,
+                                          const float* __restrict z, std::size_t begin,
+                                          std::size_t end, const PlaneF& pf, float band) {
+  const float nx = pf.nx, ny = pf.ny, nz = pf.nz, c = pf.c;
+  unsigned int above = 0;
+  for (std::size_t i = begin; i < end; ++i) above += (nx * x[i] + ny * y[i] + nz * z[i] + c > band) ? 1u : 0u;
+  return above;
+}
+
 /// Band split (SPEC 1.4): the valid points strictly above the band w.r.t. `table`, packed
 /// interleaved into ws.cand_xyz with their input rows in ws.cand_rows, in input order.
 /// Returns their number. Object points are a few percent of a frame: each block is first
@@ -387,9 +399,7 @@ std::size_t split_band(const Packed& pk, const Plane& table, double band_m,
   std::size_t w = 0;
   for (std::size_t b = 0; b < n; b += kBandBlockPoints) {
     const std::size_t e = std::min(n, b + kBandBlockPoints);
-    unsigned int above = 0;
-    for (std::size_t i = b; i < e; ++i) above += (nx * x[i] + ny * y[i] + nz * z[i] + c > band) ? 1u : 0u;
-    if (above == 0) continue;
+    if (count_above(x, y, z, b, e, pf, band) == 0) continue;
     for (std::size_t i = b; i < e; ++i) {
       cand[3 * w] = x[i];
       cand[3 * w + 1] = y[i];
