@@ -232,6 +232,8 @@ void bind_scene_filter(py::module_& m) {
       .def_readonly("decision", &SceneFilterResult::decision)
       .def_readonly("persistence", &SceneFilterResult::persistence)
       .def_readonly("events", &SceneFilterResult::events)
+      .def_readonly("ms_pack", &SceneFilterResult::ms_pack,
+                    "validity check, packing and labels of every row [ms]")
       .def_readonly("ms_plane", &SceneFilterResult::ms_plane)
       .def_readonly("ms_cluster", &SceneFilterResult::ms_cluster)
       .def_readonly("ms_total", &SceneFilterResult::ms_total);

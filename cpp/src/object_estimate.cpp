@@ -140,33 +140,37 @@ namespace {
 /// lists. The max and min of a*cos + b*sin over a point set are attained at hull vertices,
 /// and the vertices are original points, so spans over the hull equal spans over all
 /// points exactly -- at a fraction of the cost (a 5 cm top face: ~3k points, ~40 vertices).
+/// The points are sorted as (a, b) values, not through an index array: points that compare
+/// equal are identical, so the order, and hence the hull, is the same either way.
 void convex_hull_2d(const std::vector<double>& a, const std::vector<double>& b,
                     std::vector<double>* ha, std::vector<double>* hb) {
+  struct P2 {
+    double a, b;
+  };
   const std::size_t n = std::min(a.size(), b.size());
-  std::vector<std::size_t> idx(n);
-  for (std::size_t i = 0; i < n; ++i) idx[i] = i;
-  std::sort(idx.begin(), idx.end(), [&](std::size_t i, std::size_t j) {
-    return a[i] < a[j] || (a[i] == a[j] && b[i] < b[j]);
-  });
+  std::vector<P2> pts(n);
+  for (std::size_t i = 0; i < n; ++i) pts[i] = P2{a[i], b[i]};
+  std::sort(pts.begin(), pts.end(),
+            [](const P2& p, const P2& q) { return p.a < q.a || (p.a == q.a && p.b < q.b); });
   if (n < 3) {
-    for (std::size_t i : idx) { ha->push_back(a[i]); hb->push_back(b[i]); }
+    for (const P2& p : pts) { ha->push_back(p.a); hb->push_back(p.b); }
     return;
   }
-  auto cross = [&](std::size_t o, std::size_t p, std::size_t q) {
-    return (a[p] - a[o]) * (b[q] - b[o]) - (b[p] - b[o]) * (a[q] - a[o]);
+  auto cross = [](const P2& o, const P2& p, const P2& q) {
+    return (p.a - o.a) * (q.b - o.b) - (p.b - o.b) * (q.a - o.a);
   };
-  std::vector<std::size_t> hull(2 * n);
+  std::vector<P2> hull(2 * n);
   std::size_t k = 0;
   for (std::size_t i = 0; i < n; ++i) {  // lower hull
-    while (k >= 2 && cross(hull[k - 2], hull[k - 1], idx[i]) <= 0) --k;
-    hull[k++] = idx[i];
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+    hull[k++] = pts[i];
   }
   for (std::size_t i = n - 1, lower = k + 1; i-- > 0;) {  // upper hull
-    while (k >= lower && cross(hull[k - 2], hull[k - 1], idx[i]) <= 0) --k;
-    hull[k++] = idx[i];
+    while (k >= lower && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+    hull[k++] = pts[i];
   }
   hull.resize(k > 1 ? k - 1 : k);
-  for (std::size_t i : hull) { ha->push_back(a[i]); hb->push_back(b[i]); }
+  for (const P2& p : hull) { ha->push_back(p.a); hb->push_back(p.b); }
 }
 
 }  // namespace
@@ -287,12 +291,14 @@ void apply_size_guards(ObjectEstimate& est, const ObbParams& p) {
 
 // ---- the estimate ---------------------------------------------------------------------
 
-EstimateResult estimate_object(const PointsD& pts, const Plane& plane, const ObbParams& p,
-                               std::optional<double> theta_prev, std::optional<double> band,
-                               double max_abs_coordinate_m) {
+PreparedEstimate prepare_estimate(const PointsD& pts, const Plane& plane, const ObbParams& p,
+                                  double max_abs_coordinate_m) {
+  PreparedEstimate prep;
   const double n_len = plane.n.norm();
-  if (!std::isfinite(n_len) || !(n_len > 0.0) || !std::isfinite(plane.c))
-    return failure("invalid plane: normal must be finite and non-zero");
+  if (!std::isfinite(n_len) || !(n_len > 0.0) || !std::isfinite(plane.c)) {
+    prep.failure = "invalid plane: normal must be finite and non-zero";
+    return prep;
+  }
   const Vec3 n = plane.n / n_len;
   const double c = plane.c / n_len;
 
@@ -303,13 +309,19 @@ EstimateResult estimate_object(const PointsD& pts, const Plane& plane, const Obb
   for (Eigen::Index i = 0; i < pts.rows(); ++i)
     if (within_bound(pts(i, 0), pts(i, 1), pts(i, 2), max_abs_coordinate_m)) P.row(m++) = pts.row(i);
   P.conservativeResize(m, 3);
-  if (m < 3) return failure("too few points: " + std::to_string(m) + " (need 3)");
+  if (m < 3) {
+    prep.failure = "too few points: " + std::to_string(m) + " (need 3)";
+    return prep;
+  }
 
-  ObjectEstimate e;
+  ObjectEstimate& e = prep.partial;
   e.num_points = static_cast<int>(m);
   std::string why;
   const auto pca = pca_box(P, &why);
-  if (!pca) return failure(why);
+  if (!pca) {
+    prep.failure = why;
+    return prep;
+  }
   e.pca = *pca;
   e.pca_tilt_deg = pca_tilt_deg(e.pca, n);
 
@@ -326,29 +338,50 @@ EstimateResult estimate_object(const PointsD& pts, const Plane& plane, const Obb
   }
   // 2.4 height first: a cluster whose top is below the plane is no object on it (ours).
   e.height_m = slice_median_top(d, p.depth_noise_sigma, p.top_slice_sigmas, p.top_slice_iters);
-  if (!(e.height_m >= 0.0))
-    return failure("not above the plane: its top (slice median) is " + mm(-e.height_m) +
+  if (!(e.height_m >= 0.0)) {
+    prep.failure = "not above the plane: its top (slice median) is " + mm(-e.height_m) +
                    " mm below the plane; an object estimate needs points above the plane "
-                   "(are the points and the plane in the same frame?)");
+                   "(are the points and the plane in the same frame?)";
+    return prep;
+  }
+  e.lowest_m = *std::min_element(d.begin(), d.end());
 
-  // 2.2 / 2.3 width scan and closing direction.
-  const std::vector<double> ext = width_scan(a, b, p.n_theta);
-  e.anisotropy = anisotropy_ratio(ext);
+  // 2.2 width scan (the direction choice of 2.3 depends on theta_prev: finish_estimate).
+  prep.ext = width_scan(a, b, p.n_theta);
+  e.anisotropy = anisotropy_ratio(prep.ext);
   e.yaw_defined = e.anisotropy >= p.isotropy_ratio_max;
-  const DirectionChoice choice = choose_direction(ext, p.width_tol_m, theta_prev);
+  prep.n = n;
+  prep.u = u;
+  prep.v = v;
+  prep.p0 = p0;
+  prep.a = std::move(a);
+  prep.b = std::move(b);
+  return prep;
+}
+
+EstimateResult finish_estimate(const PreparedEstimate& prep, const ObbParams& p,
+                               std::optional<double> theta_prev, std::optional<double> band) {
+  if (!prep.failure.empty()) return failure(prep.failure);
+  ObjectEstimate e = prep.partial;
+  const Vec3& n = prep.n;
+  const Vec3& u = prep.u;
+  const Vec3& v = prep.v;
+
+  // 2.3 closing direction.
+  const DirectionChoice choice = choose_direction(prep.ext, p.width_tol_m, theta_prev);
   e.theta_rad = choice.theta_rad;
 
   // 2.4 box in the (theta, theta + 90 deg) basis, slice-median height, centre.
   const double th = e.theta_rad;
   double mid_w = 0.0, mid_p = 0.0;
-  span_along(a, b, th, &e.width_m, &mid_w);
-  span_along(a, b, th + M_PI / 2.0, &e.perp_width_m, &mid_p);
+  span_along(prep.a, prep.b, th, &e.width_m, &mid_w);
+  span_along(prep.a, prep.b, th + M_PI / 2.0, &e.perp_width_m, &mid_p);
   const Vec3 e_th = std::cos(th) * u + std::sin(th) * v;
   const Vec3 e_perp = -std::sin(th) * u + std::cos(th) * v;
   e.R_box.col(0) = e_th;
   e.R_box.col(1) = e_perp;
   e.R_box.col(2) = n;
-  e.center = p0 + mid_w * e_th + mid_p * e_perp + 0.5 * e.height_m * n;
+  e.center = prep.p0 + mid_w * e_th + mid_p * e_perp + 0.5 * e.height_m * n;
   e.extents = Vec3(e.width_m, e.perp_width_m, e.height_m);
 
   // 2.6 guards.
@@ -358,7 +391,6 @@ EstimateResult estimate_object(const PointsD& pts, const Plane& plane, const Obb
   // every noisy top-only view would count as "sides seen" and a resting cube seen from
   // directly above would be refused as floating. Measuring from the slice-median top and
   // adding the slice depth keeps the noise band of the top face out of the judgement.
-  e.lowest_m = *std::min_element(d.begin(), d.end());
   const double below_top = e.height_m - e.lowest_m;
   const double side_limit = (p.top_slice_sigmas + p.side_seen_sigmas) * p.depth_noise_sigma;
   const bool sides_seen = below_top > side_limit;
@@ -381,6 +413,12 @@ EstimateResult estimate_object(const PointsD& pts, const Plane& plane, const Obb
   EstimateResult r;
   r.estimate = std::move(e);
   return r;
+}
+
+EstimateResult estimate_object(const PointsD& pts, const Plane& plane, const ObbParams& p,
+                               std::optional<double> theta_prev, std::optional<double> band,
+                               double max_abs_coordinate_m) {
+  return finish_estimate(prepare_estimate(pts, plane, p, max_abs_coordinate_m), p, theta_prev, band);
 }
 
 }  // namespace grasp_core

@@ -59,22 +59,28 @@ PerceptionFrame Perception::process_impl(const T* xyz, std::size_t n_rows, std::
   const auto t1 = std::chrono::steady_clock::now();
   if (out.filter.table && !out.filter.cluster_ids.empty()) {
     const Plane& plane = *out.filter.table;
-    // Bucket every labelled row into its cluster (labels are compact 0..K-1).
+    // Bucket every object row into its cluster (labels are compact 0..K-1). The filter
+    // lists the object rows in ascending order, so each cluster keeps the input row order
+    // without a pass over the whole frame.
     const int k = static_cast<int>(out.filter.cluster_ids.size());
     std::vector<int> slot(static_cast<std::size_t>(out.filter.cluster_ids.back()) + 1, -1);
     for (int i = 0; i < k; ++i) slot[static_cast<std::size_t>(out.filter.cluster_ids[i])] = i;
+    const auto slot_of_row = [&](int row) {
+      const int lab = out.filter.labels[static_cast<std::size_t>(row)];
+      return (lab >= 0 && static_cast<std::size_t>(lab) < slot.size()) ? slot[lab] : -1;
+    };
     std::vector<std::size_t> counts(static_cast<std::size_t>(k), 0);
-    for (int lab : out.filter.labels) {
-      if (lab >= 0 && static_cast<std::size_t>(lab) < slot.size() && slot[lab] >= 0) ++counts[slot[lab]];
+    for (const int row : out.filter.object_rows) {
+      const int s = slot_of_row(row);
+      if (s >= 0) ++counts[static_cast<std::size_t>(s)];
     }
     std::vector<PointsD> clusters(static_cast<std::size_t>(k));
     for (int i = 0; i < k; ++i) clusters[i].resize(static_cast<Eigen::Index>(counts[i]), 3);
     std::vector<Eigen::Index> fill(static_cast<std::size_t>(k), 0);
-    for (std::size_t r = 0; r < n_rows; ++r) {
-      const int lab = out.filter.labels[r];
-      if (lab < 0 || static_cast<std::size_t>(lab) >= slot.size() || slot[lab] < 0) continue;
-      const int s = slot[lab];
-      const T* p = xyz + r * row_stride;
+    for (const int row : out.filter.object_rows) {
+      const int s = slot_of_row(row);
+      if (s < 0) continue;
+      const T* p = xyz + static_cast<std::size_t>(row) * row_stride;
       clusters[s].row(fill[s]++) << static_cast<double>(p[0]), static_cast<double>(p[1]),
           static_cast<double>(p[2]);
     }

@@ -1,5 +1,6 @@
 // SPEC 1.1 — see plane_fit.hpp for how PCL's RANSAC is configured to honour the SPEC.
 #include "grasp_core/plane_fit.hpp"
+#include "simd_clones.hpp"
 
 #include <pcl/console/print.h>
 #include <pcl/point_cloud.h>
@@ -26,6 +27,15 @@ float float_threshold(double t) {
   float f = static_cast<float>(t);
   if (static_cast<double>(f) < t) f = std::nextafter(f, std::numeric_limits<float>::infinity());
   return f;
+}
+
+/// Number of points i < n with |a x_i + b y_i + c z_i + d| < t (float, PCL's test).
+GRASP_SIMD_CLONES unsigned int count_within(const float* __restrict x, const float* __restrict y,
+                                           const float* __restrict z, std::size_t n, float a,
+                                           float b, float c, float d, float t) {
+  unsigned int cnt = 0;
+  for (std::size_t i = 0; i < n; ++i) cnt += std::abs(a * x[i] + b * y[i] + c * z[i] + d) < t;
+  return cnt;
 }
 
 /// PCL's perpendicular-plane model with two changes that do not alter its semantics:
@@ -60,13 +70,7 @@ class SeededPerpendicularPlane : public pcl::SampleConsensusModelPerpendicularPl
     const float t = float_threshold(threshold);
     std::size_t count = 0;
     if (indices_->size() == xs_.size()) {  // the constructor's identity indices: SoA loop
-      const std::size_t n = xs_.size();
-      const float* x = xs_.data();
-      const float* y = ys_.data();
-      const float* z = zs_.data();
-      unsigned int cnt = 0;
-      for (std::size_t i = 0; i < n; ++i) cnt += std::abs(a * x[i] + b * y[i] + c * z[i] + d) < t;
-      return cnt;
+      return count_within(xs_.data(), ys_.data(), zs_.data(), xs_.size(), a, b, c, d, t);
     }
     const Cloud& cloud = *input_;
     for (const auto i : *indices_) {

@@ -167,11 +167,16 @@ std::vector<EstimateResult> estimate_with_priors(const std::vector<PointsD>& clu
                                                  const Tracker& tracker,
                                                  std::optional<double> band,
                                                  double max_abs_coordinate_m) {
+  // The per-point work (PCA, decomposition, height, width scan) does not depend on the
+  // prior: it is done once per cluster and both passes finish from it.
+  std::vector<PreparedEstimate> prepared;
+  prepared.reserve(clusters.size());
   std::vector<EstimateResult> first;
   first.reserve(clusters.size());
   std::vector<Vec3> centres;
   for (const auto& c : clusters) {
-    first.push_back(estimate_object(c, plane, p, std::nullopt, band, max_abs_coordinate_m));
+    prepared.push_back(prepare_estimate(c, plane, p, max_abs_coordinate_m));
+    first.push_back(finish_estimate(prepared.back(), p, std::nullopt, band));
     if (first.back().estimate) centres.push_back(first.back().estimate->center);
   }
   const auto gate = Tracker::gate_for(centres, p.assoc_gate_frac);
@@ -187,7 +192,7 @@ std::vector<EstimateResult> estimate_with_priors(const std::vector<PointsD>& clu
       out.push_back(std::move(first[i]));
       continue;
     }
-    EstimateResult second = estimate_object(clusters[i], plane, p, prior, band, max_abs_coordinate_m);
+    EstimateResult second = finish_estimate(prepared[i], p, prior, band);
     out.push_back(second.estimate ? std::move(second) : std::move(first[i]));
   }
   return out;

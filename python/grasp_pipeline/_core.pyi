@@ -694,6 +694,11 @@ class SceneFilterResult:
     def ms_cluster(self) -> float:
         ...
     @property
+    def ms_pack(self) -> float:
+        """
+        validity check, packing and labels of every row [ms]
+        """
+    @property
     def ms_plane(self) -> float:
         ...
     @property

@@ -72,6 +72,34 @@ EstimateResult estimate_object(const PointsD& pts, const Plane& plane, const Obb
                                std::optional<double> band = std::nullopt,
                                double max_abs_coordinate_m = kDefaultMaxAbsCoordinate_m);
 
+/// The part of SPEC 2 for one cluster that does not depend on theta_prev: the valid points,
+/// the PCA box (2.5), the decomposition (2.1), the slice-median height (2.4) and the width
+/// scan (2.2). SPEC 4's two-pass estimation computes it once per cluster and finishes it
+/// twice (without, then with the tracker's prior), so the second pass repeats none of the
+/// per-point work; the results are exactly those of two full estimate_object() calls.
+struct PreparedEstimate {
+  std::string failure;       ///< non-empty: no estimate for this cluster (the reason)
+  ObjectEstimate partial;    ///< num_points, pca, pca_tilt_deg, height_m, anisotropy,
+                             ///< yaw_defined and lowest_m filled in
+  Vec3 n = Vec3::UnitZ();    ///< unit plane normal
+  Vec3 u = Vec3::UnitX();    ///< in-plane basis, u x v = n
+  Vec3 v = Vec3::UnitY();
+  Vec3 p0 = Vec3::Zero();    ///< anchor -c n [m]
+  std::vector<double> a, b;  ///< in-plane coordinates of every valid point [m]
+  std::vector<double> ext;   ///< width scan ext(theta_t), t = 0..n_theta-1 [m]
+};
+
+/// First half of estimate_object(): everything that does not depend on theta_prev or band.
+/// Same arguments and failures (in PreparedEstimate::failure) as estimate_object().
+PreparedEstimate prepare_estimate(const PointsD& pts, const Plane& plane, const ObbParams& p,
+                                  double max_abs_coordinate_m = kDefaultMaxAbsCoordinate_m);
+
+/// Second half of estimate_object(): closing direction (2.3), box and centre (2.4) and
+/// guards (2.6) of a prepared cluster; a failed preparation gives its failure.
+EstimateResult finish_estimate(const PreparedEstimate& prep, const ObbParams& p,
+                               std::optional<double> theta_prev = std::nullopt,
+                               std::optional<double> band = std::nullopt);
+
 /// Recompute height_ok, width_ok, grasp_ok and the hard notes (resting_note first, then
 /// the size notes) from the estimate's current width_m / height_m / resting. Used by
 /// estimate_object and by the tracker after smoothing.

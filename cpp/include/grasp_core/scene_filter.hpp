@@ -73,12 +73,25 @@ struct SceneFilterResult {
   int num_candidates = 0;            ///< valid points above the band (clustering input)
   std::vector<int> cluster_ids;      ///< accepted object group ids this frame (ascending)
   std::vector<ClusterInfo> clusters; ///< every component >= cluster_min_points (diagnostic)
+  std::vector<int> object_rows;      ///< input rows with an object label (>= 0), ascending
   PlaneDecision decision = PlaneDecision::kNoPlane;
   PersistenceState persistence;      ///< lock state after this frame
   std::vector<FrameEvent> events;    ///< log lines for the caller
+  double ms_pack = 0.0;              ///< validity check, packing and labels of every row [ms]
   double ms_plane = 0.0;             ///< plane extraction + table choice + persistence [ms]
   double ms_cluster = 0.0;           ///< band split + clustering [ms]
   double ms_total = 0.0;             ///< whole process() call [ms]
+};
+
+/// Reusable whole-frame buffers of the scene filter (ours: frames of a constant size
+/// allocate nothing for them). Their contents never carry over from one frame to the next.
+struct SceneFilterWorkspace {
+  std::vector<float> x, y, z;        ///< valid points, packed (structure of arrays)
+  std::vector<int> rows;             ///< input row of each packed point
+  std::vector<int> remainder;        ///< packed indices not yet assigned to a plane
+  std::vector<std::uint8_t> inlier;  ///< per packed point: inlier of the current plane
+  std::vector<float> cand_xyz;       ///< clustering input: points above the band, xyz interleaved
+  std::vector<int> cand_rows;        ///< input row of each candidate
 };
 
 /// The per-frame scene filter (SPEC 1). Owns the plane persistence, so one instance per
@@ -116,6 +129,7 @@ class SceneFilter {
   PlanePersistence persistence_;
   int frame_index_ = 0;
   bool out_of_range_reported_ = false;  ///< the out-of-range WARNING was emitted this session
+  SceneFilterWorkspace work_;           ///< per-frame buffers, reused
 };
 
 }  // namespace grasp_core
