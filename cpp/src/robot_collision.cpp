@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -113,6 +114,56 @@ RobotCollisionModel::RobotCollisionModel(RobotCollisionSpec spec) : spec_(std::m
     geom_pairs_.back().end = static_cast<int>(k) + 1;
     link_pairs_.back().end = static_cast<int>(geom_pairs_.size());
   }
+  // bounding-sphere trees; usable when every link pair is complete and has no duplicates
+  complete_ = true;
+  for (const LinkPair& lp : link_pairs_) {
+    std::set<std::pair<int, int>> seen;
+    for (int g = lp.begin; g < lp.end; ++g)
+      for (int k = geom_pairs_[static_cast<std::size_t>(g)].begin; k < geom_pairs_[static_cast<std::size_t>(g)].end; ++k)
+        seen.insert(pairs_[static_cast<std::size_t>(k)]);
+    const std::size_t full = links_[static_cast<std::size_t>(lp.la)].spheres.size() *
+                             links_[static_cast<std::size_t>(lp.lb)].spheres.size();
+    const std::size_t count = static_cast<std::size_t>(geom_pairs_[static_cast<std::size_t>(lp.end - 1)].end -
+                                                       geom_pairs_[static_cast<std::size_t>(lp.begin)].begin);
+    if (lp.la == lp.lb || seen.size() != full || count != full) complete_ = false;
+  }
+  for (Link& l : links_) {
+    std::vector<int> idx = l.spheres;
+    link_roots_.push_back(build_tree(idx, 0, idx.size()));
+  }
+}
+
+int RobotCollisionModel::build_tree(std::vector<int>& idx, std::size_t begin, std::size_t end) {
+  const RobotCollisionSpec& s = spec_;
+  Vec3 lo = s.sphere_center[static_cast<std::size_t>(idx[begin])], hi = lo;
+  for (std::size_t k = begin; k < end; ++k) {
+    lo = lo.cwiseMin(s.sphere_center[static_cast<std::size_t>(idx[k])]);
+    hi = hi.cwiseMax(s.sphere_center[static_cast<std::size_t>(idx[k])]);
+  }
+  Node n;
+  n.center = 0.5 * (lo + hi);
+  for (std::size_t k = begin; k < end; ++k) {
+    const std::size_t i = static_cast<std::size_t>(idx[k]);
+    n.radius = std::max(n.radius, (s.sphere_center[i] - n.center).norm() + s.sphere_radius[i]);
+  }
+  const int self = static_cast<int>(nodes_.size());
+  nodes_.push_back(n);
+  if (end - begin == 1) {
+    nodes_[static_cast<std::size_t>(self)].sphere = idx[begin];
+    return self;
+  }
+  int axis = 0;
+  (hi - lo).maxCoeff(&axis);
+  const std::size_t mid = begin + (end - begin) / 2;
+  std::nth_element(idx.begin() + static_cast<std::ptrdiff_t>(begin), idx.begin() + static_cast<std::ptrdiff_t>(mid),
+                   idx.begin() + static_cast<std::ptrdiff_t>(end), [&](int a, int b) {
+                     return s.sphere_center[static_cast<std::size_t>(a)][axis] < s.sphere_center[static_cast<std::size_t>(b)][axis];
+                   });
+  const int left = build_tree(idx, begin, mid);
+  const int right = build_tree(idx, mid, end);
+  nodes_[static_cast<std::size_t>(self)].left = left;
+  nodes_[static_cast<std::size_t>(self)].right = right;
+  return self;
 }
 
 namespace {
@@ -208,7 +259,55 @@ class Evaluator {
     return d - ((r + sc_.collision_margin_m) + sc_.field.inflation_m) >= 0.0;
   }
 
-  bool self_ok() {
+  bool self_ok() { return m_.complete_link_pairs() ? self_ok_trees() : self_ok_lists(); }
+
+  Vec3 node_world(int body, const RobotCollisionModel::Node& n) const {
+    return p_[static_cast<std::size_t>(body)] + R_[static_cast<std::size_t>(body)] * n.center;
+  }
+
+  /// Descent of both links' trees for every checked link pair.
+  bool self_ok_trees() {
+    const double margin = s_.self_margin_m;
+    const auto& links = m_.links();
+    const auto& nodes = m_.nodes();
+    const auto& roots = m_.link_roots();
+    for (const auto& lp : m_.link_pairs()) {
+      const int ba = links[static_cast<std::size_t>(lp.la)].body, bb = links[static_cast<std::size_t>(lp.lb)].body;
+      stack_.clear();
+      stack_.emplace_back(roots[static_cast<std::size_t>(lp.la)], roots[static_cast<std::size_t>(lp.lb)]);
+      bool posed = false;
+      while (!stack_.empty()) {
+        const auto [a, b] = stack_.back();
+        stack_.pop_back();
+        const auto& A = nodes[static_cast<std::size_t>(a)];
+        const auto& B = nodes[static_cast<std::size_t>(b)];
+        if (A.sphere >= 0 && B.sphere >= 0) {
+          if (!posed) { pose_link(lp.la); pose_link(lp.lb); posed = true; }
+          if (!sphere_pair_ok(A.sphere, B.sphere, margin)) return false;
+          continue;
+        }
+        if ((node_world(ba, A) - node_world(bb, B)).norm() - (A.radius + B.radius) - margin >= kBoundSlack_m) continue;
+        if (A.sphere >= 0 || (B.sphere < 0 && B.radius > A.radius)) {
+          stack_.emplace_back(a, B.left);
+          stack_.emplace_back(a, B.right);
+        } else {
+          stack_.emplace_back(A.left, b);
+          stack_.emplace_back(A.right, b);
+        }
+      }
+    }
+    return true;
+  }
+
+  bool sphere_pair_ok(int i, int j, double margin) const {
+    const Vec3& ci = c_[static_cast<std::size_t>(i)];
+    const Vec3& cj = c_[static_cast<std::size_t>(j)];
+    const double dx = ci.x() - cj.x(), dy = ci.y() - cj.y(), dz = ci.z() - cj.z();
+    const double rsum = s_.sphere_radius[static_cast<std::size_t>(i)] + s_.sphere_radius[static_cast<std::size_t>(j)];
+    return std::sqrt(dx * dx + dy * dy + dz * dz) - rsum >= margin;
+  }
+
+  bool self_ok_lists() {
     const double margin = s_.self_margin_m;
     const auto& links = m_.links();
     const auto& gb = m_.geom_bounds();
@@ -227,12 +326,7 @@ class Evaluator {
         pose_link(lp.lb);
         for (int k = gp.begin; k < gp.end; ++k) {
           const auto& pr = pairs[static_cast<std::size_t>(k)];
-          const Vec3& ci = c_[static_cast<std::size_t>(pr.first)];
-          const Vec3& cj = c_[static_cast<std::size_t>(pr.second)];
-          const double dx = ci.x() - cj.x(), dy = ci.y() - cj.y(), dz = ci.z() - cj.z();
-          const double rsum = s_.sphere_radius[static_cast<std::size_t>(pr.first)] +
-                              s_.sphere_radius[static_cast<std::size_t>(pr.second)];
-          if (!(std::sqrt(dx * dx + dy * dy + dz * dz) - rsum >= margin)) return false;
+          if (!sphere_pair_ok(pr.first, pr.second, margin)) return false;
         }
       }
     }
@@ -248,6 +342,7 @@ class Evaluator {
   std::vector<Vec3> c_;
   std::vector<std::uint8_t> posed_;
   std::vector<int> near_boxes_;
+  std::vector<std::pair<int, int>> stack_;
 };
 
 }  // namespace

@@ -15,7 +15,8 @@
 // first and settle most links without posing their spheres; they are conservative (a
 // link-level "clear" implies every member sphere passes the exact test, with a 1 µm
 // allowance for the float32 distance field), so results equal the sphere-level test.
-// Self-collision is checked link pair -> geom pair -> sphere pair.
+// Self-collision: per checked link pair a descent of both links' bounding-sphere trees
+// (or link pair -> geom pair -> sphere pair when the pair list is not whole link pairs).
 #pragma once
 
 #include <array>
@@ -74,6 +75,19 @@ class RobotCollisionModel {
   const std::vector<std::pair<int, int>>& sorted_pairs() const { return pairs_; }
   const std::vector<int>& link_of_body() const { return link_of_body_; }
 
+  /// Bounding-sphere tree over one link's spheres (body frame); leaves hold one sphere.
+  struct Node {
+    Vec3 center = Vec3::Zero();
+    double radius = 0.0;
+    int left = -1, right = -1;  ///< children (-1 for a leaf)
+    int sphere = -1;            ///< the leaf's sphere
+  };
+  const std::vector<Node>& nodes() const { return nodes_; }
+  /// Root node of each link's tree.
+  const std::vector<int>& link_roots() const { return link_roots_; }
+  /// True when the pair list is every sphere pair of its link pairs (then the trees are used).
+  bool complete_link_pairs() const { return complete_; }
+
  private:
   RobotCollisionSpec spec_;
   RobotChain chain_;
@@ -83,6 +97,11 @@ class RobotCollisionModel {
   std::vector<GeomPair> geom_pairs_;
   std::vector<LinkPair> link_pairs_;
   std::vector<std::pair<int, int>> pairs_;
+  std::vector<Node> nodes_;
+  std::vector<int> link_roots_;
+  bool complete_ = false;
+
+  int build_tree(std::vector<int>& spheres, std::size_t begin, std::size_t end);
 };
 
 class StateChecker {
