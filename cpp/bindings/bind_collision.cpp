@@ -205,8 +205,11 @@ std::shared_ptr<CollisionScene> make_scene(double margin, double floor_z, bool h
 
 /// The 7 values of an OMPL RealVectorState (s[0:7] returns a list of floats).
 void ompl_values(const py::handle& s, double* q) {
-  static py::object seven = py::reinterpret_steal<py::object>(PySlice_New(nullptr, py::int_(kArmJoints).ptr(), nullptr));
-  py::object lst = py::reinterpret_steal<py::object>(PyObject_GetItem(s.ptr(), seven.ptr()));
+  // deliberately never released: a static py::object would be decref'd after the
+  // interpreter is gone (crash at exit)
+  static PyObject* const seven = PySlice_New(nullptr, py::int_(kArmJoints).ptr(), nullptr);
+  if (seven == nullptr) throw py::error_already_set();
+  py::object lst = py::reinterpret_steal<py::object>(PyObject_GetItem(s.ptr(), seven));
   if (!lst) throw py::error_already_set();
   if (!PyList_Check(lst.ptr()) || PyList_GET_SIZE(lst.ptr()) != kArmJoints)
     throw py::type_error("state: expected a 7-D OMPL RealVectorState");
