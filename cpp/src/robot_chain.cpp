@@ -36,9 +36,19 @@ void RobotChain::poses(const double* q, Mat3* R, Vec3* p) const {
     Mat3 Rb = Rp * c.R;
     Vec3 pb = p[c.parent] + Rp * c.p;
     if (c.joint >= 0) {
-      const Vec3 a = pb + Rb * c.anchor;
-      Rb = Rb * Eigen::AngleAxisd(q[c.joint] - c.q0_rad, c.axis).toRotationMatrix();
-      pb = a - Rb * c.anchor;
+      const double angle = q[c.joint] - c.q0_rad;
+      if (c.axis.x() == 0.0 && c.axis.y() == 0.0 && c.anchor.isZero()) {
+        // hinge about the body's z axis through its origin (every Panda joint): mix columns
+        const double signed_angle = c.axis.z() > 0.0 ? angle : -angle;
+        const double cs = std::cos(signed_angle), sn = std::sin(signed_angle);
+        const Vec3 c0 = Rb.col(0), c1 = Rb.col(1);
+        Rb.col(0) = cs * c0 + sn * c1;
+        Rb.col(1) = cs * c1 - sn * c0;
+      } else {
+        const Vec3 a = pb + Rb * c.anchor;
+        Rb = Rb * Eigen::AngleAxisd(angle, c.axis).toRotationMatrix();
+        pb = a - Rb * c.anchor;
+      }
     }
     R[b] = Rb;
     p[b] = pb;
