@@ -174,7 +174,8 @@ class Evaluator {
   Evaluator(const RobotCollisionModel& m, const CollisionScene& sc, bool allow_target)
       : m_(m), s_(m.spec()), sc_(sc), allow_(allow_target && sc.has_cleared),
         R_(static_cast<std::size_t>(m.chain().num_bodies())), p_(R_.size()),
-        c_(s_.sphere_radius.size()), posed_(m.links().size(), 0) {
+        c_(s_.sphere_radius.size()), posed_(m.links().size(), 0), node_w_(m.nodes().size()),
+        node_stamp_(m.nodes().size(), 0) {
     near_boxes_.reserve(sc.boxes.size());
   }
 
@@ -183,6 +184,10 @@ class Evaluator {
       if (!(q[j] >= s_.q_min_rad[j] && q[j] <= s_.q_max_rad[j])) return false;
     m_.chain().poses(q, R_.data(), p_.data());
     std::fill(posed_.begin(), posed_.end(), 0);
+    if (++stamp_ == 0) {  // wrapped: invalidate every cached node
+      std::fill(node_stamp_.begin(), node_stamp_.end(), 0);
+      stamp_ = 1;
+    }
     const auto& links = m_.links();
     for (std::size_t l = 0; l < links.size(); ++l)
       if (!links[l].env_spheres.empty() && !link_env_ok(static_cast<int>(l))) return false;
@@ -235,7 +240,8 @@ class Evaluator {
     for (std::size_t k = 0; k < sc_.boxes.size(); ++k) {
       const ObstacleBox& b = sc_.boxes[k];
       const double reach = rad + margin + kBoundSlack_m;
-      if ((cb - b.center).norm() - b.bound_radius_m >= reach) continue;
+      const double far = reach + b.bound_radius_m;
+      if ((cb - b.center).squaredNorm() >= far * far) continue;
       if (b.distance(cb) >= reach) continue;
       near_boxes_.push_back(static_cast<int>(k));
     }
@@ -261,8 +267,14 @@ class Evaluator {
 
   bool self_ok() { return m_.complete_link_pairs() ? self_ok_trees() : self_ok_lists(); }
 
-  Vec3 node_world(int body, const RobotCollisionModel::Node& n) const {
-    return p_[static_cast<std::size_t>(body)] + R_[static_cast<std::size_t>(body)] * n.center;
+  /// World centre of tree node k (of a link on `body`), computed once per state.
+  const Vec3& node_world(int body, int k) {
+    const std::size_t u = static_cast<std::size_t>(k);
+    if (node_stamp_[u] != stamp_) {
+      node_w_[u] = p_[static_cast<std::size_t>(body)] + R_[static_cast<std::size_t>(body)] * m_.nodes()[u].center;
+      node_stamp_[u] = stamp_;
+    }
+    return node_w_[u];
   }
 
   /// Descent of both links' trees for every checked link pair.
@@ -271,14 +283,15 @@ class Evaluator {
     const auto& links = m_.links();
     const auto& nodes = m_.nodes();
     const auto& roots = m_.link_roots();
+    constexpr int kStack = 128;
+    std::pair<int, int> stack[kStack];
     for (const auto& lp : m_.link_pairs()) {
       const int ba = links[static_cast<std::size_t>(lp.la)].body, bb = links[static_cast<std::size_t>(lp.lb)].body;
-      stack_.clear();
-      stack_.emplace_back(roots[static_cast<std::size_t>(lp.la)], roots[static_cast<std::size_t>(lp.lb)]);
+      int top = 0;
+      stack[top++] = {roots[static_cast<std::size_t>(lp.la)], roots[static_cast<std::size_t>(lp.lb)]};
       bool posed = false;
-      while (!stack_.empty()) {
-        const auto [a, b] = stack_.back();
-        stack_.pop_back();
+      while (top > 0) {
+        const auto [a, b] = stack[--top];
         const auto& A = nodes[static_cast<std::size_t>(a)];
         const auto& B = nodes[static_cast<std::size_t>(b)];
         if (A.sphere >= 0 && B.sphere >= 0) {
@@ -286,13 +299,15 @@ class Evaluator {
           if (!sphere_pair_ok(A.sphere, B.sphere, margin)) return false;
           continue;
         }
-        if ((node_world(ba, A) - node_world(bb, B)).norm() - (A.radius + B.radius) - margin >= kBoundSlack_m) continue;
+        const double reach = A.radius + B.radius + margin + kBoundSlack_m;
+        if (reach > 0.0 && (node_world(ba, a) - node_world(bb, b)).squaredNorm() >= reach * reach) continue;
+        if (top + 2 > kStack) throw std::logic_error("self-collision tree descent: stack overflow");
         if (A.sphere >= 0 || (B.sphere < 0 && B.radius > A.radius)) {
-          stack_.emplace_back(a, B.left);
-          stack_.emplace_back(a, B.right);
+          stack[top++] = {a, B.left};
+          stack[top++] = {a, B.right};
         } else {
-          stack_.emplace_back(A.left, b);
-          stack_.emplace_back(A.right, b);
+          stack[top++] = {A.left, b};
+          stack[top++] = {A.right, b};
         }
       }
     }
@@ -342,7 +357,9 @@ class Evaluator {
   std::vector<Vec3> c_;
   std::vector<std::uint8_t> posed_;
   std::vector<int> near_boxes_;
-  std::vector<std::pair<int, int>> stack_;
+  std::vector<Vec3> node_w_;
+  std::vector<std::uint32_t> node_stamp_;
+  std::uint32_t stamp_ = 0;
 };
 
 }  // namespace
