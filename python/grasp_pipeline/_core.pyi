@@ -2,7 +2,7 @@
 # then tidied by hand (numpy types, aliases below). tests/python/core/test_core_stubs.py
 # fails when the module gains a public name the stubs do not declare.
 """
-grasp_pipeline perception core (C++17, Eigen, PCL): scene filter, object estimates, grasp pose math, tracker, and the per-frame Perception entry point
+grasp_pipeline perception core (C++17, Eigen, PCL): scene filter, object estimates, grasp pose math, tracker, the per-frame Perception entry point, and the planning state checker
 """
 from __future__ import annotations
 from collections.abc import Sequence
@@ -936,6 +936,67 @@ class Track:
         ...
     @property
     def window_size(self) -> int:
+        ...
+class RobotCollisionModel:
+    """
+    The robot's kinematic chain (fixed transforms + 7 hinges), collision spheres and self-collision pairs, exported once from the MuJoCo model (motion/core_checker.py).
+    """
+    def __init__(self, arrays: dict[str, typing.Any]) -> None:
+        ...
+    def body_poses(self, q: numpy.typing.ArrayLike) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]:
+        """
+        World rotations (B, 3, 3) and positions (B, 3) of every body for arm state q (7,).
+        """
+    @property
+    def num_bodies(self) -> int:
+        ...
+    @property
+    def num_spheres(self) -> int:
+        ...
+class CollisionScene:
+    """
+    One perceived planning scene (immutable): distance field of the occupancy map, object boxes, floor, margins, and the optional target-cleared region.
+    """
+    def __init__(self, collision_margin_m: float, floor_z_m: float, has_env: bool = False, field_m: numpy.typing.ArrayLike | None = None, origin_m: numpy.typing.ArrayLike | None = None, voxel_size_m: float = 1.0, inflation_m: float = 0.0, box_centers_m: numpy.typing.ArrayLike | None = None, box_rotations: numpy.typing.ArrayLike | None = None, box_extents_m: numpy.typing.ArrayLike | None = None, cleared: dict[str, typing.Any] | None = None) -> None:
+        ...
+    @property
+    def num_boxes(self) -> int:
+        ...
+class StateChecker:
+    """
+    Validity of arm states (joint limits, self-collision, map, boxes, floor). Thread-safe; the GIL is released while checking.
+    """
+    allow_target_contact: bool
+    def __init__(self, robot: RobotCollisionModel, scene: CollisionScene) -> None:
+        ...
+    def check(self, q: numpy.typing.ArrayLike) -> bool:
+        """
+        True if the state q (7,) rad is valid.
+        """
+    def check_batch(self, Q: numpy.typing.ArrayLike) -> numpy.typing.NDArray[numpy.bool_]:
+        """
+        (N,) bool: validity of each row of Q (N, 7) rad.
+        """
+    def check_ompl_motion(self, s1: typing.Any, s2: typing.Any, max_step_rad: float) -> bool:
+        """
+        OMPL motion callback: every state after s1 up to s2 (the start is valid by contract).
+        """
+    def check_ompl_state(self, state: typing.Any) -> bool:
+        """
+        OMPL state validity callback: a 7-D RealVectorState.
+        """
+    def check_segment(self, qa: numpy.typing.ArrayLike, qb: numpy.typing.ArrayLike, max_step_rad: float, include_start: bool = False) -> bool:
+        """
+        True if every state of the straight joint line (step <= max_step_rad per joint) is valid.
+        """
+    def set_scene(self, scene: CollisionScene) -> None:
+        ...
+    def sphere_centres(self, q: numpy.typing.ArrayLike) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        World sphere centres (S, 3) for q (7,).
+        """
+    @property
+    def checked_states(self) -> int:
         ...
 class Tracker:
     """

@@ -45,6 +45,10 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
     pl.add_argument("--scenes", type=positive_int, default=50)
     pl.add_argument("--seed", type=non_negative_int, default=0)
     pl.add_argument("--json", type=Path, required=True)
+    pl.add_argument("--hard", type=non_negative_int, default=0, metavar="N",
+                    help="also: checker throughput and N blocked-line start/goal pairs per perceived "
+                         "packed scene (seeds as --seed/--scenes)")
+    pl.add_argument("--hard-only", action="store_true", help="with --hard: skip the executed motions")
     _add_config_options(pl, "scene_filter, obb, camera, sim, motion, scan, grasp", "sim.object_count=[1,3]")
 
     g = bsub.add_parser(
@@ -252,7 +256,8 @@ def _run_bench(args: argparse.Namespace) -> None:
         from .bench.planning_bench import run_planning_benchmark
 
         _print_json(run_planning_benchmark(scenes=args.scenes, seed=args.seed,
-                                           json_path=args.json, overrides=(args.config, args.sets)))
+                                           json_path=args.json, overrides=(args.config, args.sets),
+                                           hard_pairs=args.hard, hard_only=args.hard_only))
     elif args.bench == "grasp":
         from .bench.grasp_bench import headline, run_grasp_benchmark
 

@@ -12,7 +12,8 @@ gripper stays open (this measures motions, not grasps). Obstacles are perceived 
 
 Figures: ``plans``, ``success_rate`` (planned *and* executed without a stop), ``median_ms`` /
 ``p90_ms`` of the planning time (IK + collision checks + OMPL, without timing),
-``toppra_median_ms``, per-kind breakdowns, ``robot_contacts_during_motion``.
+``toppra_median_ms``, per-kind breakdowns, ``robot_contacts_during_motion``. With
+``--hard N``: ``hard.checker_throughput`` and ``hard.hard_set`` (see :mod:`.planning_hard`).
 """
 
 from __future__ import annotations
@@ -168,9 +169,13 @@ def _summary(records: list[dict], contacts: list[str], scenes: int, seed: int, w
 
 
 def run_planning_benchmark(scenes: int, seed: int, json_path: str | Path | None,
-                           overrides: tuple = (None, ())) -> dict:
+                           overrides: tuple = (None, ()), hard_pairs: int = 0,
+                           hard_only: bool = False) -> dict:
     """Run the benchmark on ``scenes`` random scenes (seeds ``seed`` … ``seed+scenes-1``);
-    ``overrides``: ``(config_file, [name=value, ...])`` for the settings."""
+    ``overrides``: ``(config_file, [name=value, ...])`` for the settings. ``hard_pairs`` > 0
+    adds the checker throughput and the hard set (that many blocked-line start/goal pairs per
+    perceived packed scene, :mod:`.planning_hard`) under ``"hard"``; ``hard_only`` skips the
+    executed random-scene motions."""
     from ..app.sim_system import SECTIONS
     from ..report.serialize import check_writable, write_json
     from ..settings import load_settings
@@ -180,13 +185,20 @@ def run_planning_benchmark(scenes: int, seed: int, json_path: str | Path | None,
     if json_path is not None:
         check_writable(json_path, "benchmark JSON (--json)")
     settings = load_settings(SECTIONS, overrides[0], list(overrides[1]))
+    if hard_pairs < 0:
+        raise ValueError(f"hard_pairs must be >= 0, got {hard_pairs}")
     records, contacts, t0 = [], [], time.perf_counter()
-    for k in range(scenes):
+    for k in range(0 if hard_only else scenes):
         recs, cons = benchmark_scene(seed + k, settings)
         records += recs
         contacts += cons
         log.info("scene %d/%d: %d motions", k + 1, scenes, len(recs))
-    result = _summary(records, contacts, scenes, seed, time.perf_counter() - t0, settings.motion.planner)
+    result = _summary(records, contacts, 0 if hard_only else scenes, seed, time.perf_counter() - t0,
+                      settings.motion.planner)
+    if hard_pairs > 0:
+        from .planning_hard import run_hard_set
+
+        result["hard"] = run_hard_set(scenes, seed, hard_pairs, settings)
     if json_path is not None:
         write_json(json_path, result, sort_keys=True)
     return result

@@ -7,6 +7,8 @@ Pieces, as OMPL separates them (one concept per module):
 * :mod:`.robot_spheres` — the robot as spheres; :mod:`.kinematics` — batch FK;
 * :mod:`.occupancy` — :class:`OccupancyMap` (voxels + distance field) and :class:`OrientedBox`;
 * :mod:`.validity` — :class:`StateValidator` (limits + self + environment + boxes + floor);
+* :mod:`.core_checker` — export of the robot and the scene to the C++ ``_core.StateChecker``
+  that :class:`StateValidator` and OMPL call (the numpy code stays as the reference);
 * :mod:`.state_space` / :mod:`.planner` — OMPL wiring and :class:`JointPlanner`;
 * :mod:`.cartesian` — :class:`CartesianPlanner` (straight approach / lift lines);
 * :mod:`.timing` — :class:`TrajectoryTimer` (TOPP-RA); :mod:`.trajectory` — result types;

@@ -208,6 +208,22 @@ class OccupancyMap:
         view._cleared = (box, cKDTree(pts) if len(pts) else None)
         return view
 
+    # ------------------------------------------------------------------ export
+    @property
+    def distance_field_m(self) -> np.ndarray | None:
+        """The float32 distance field (grid ``shape``, C order; None for an empty map)."""
+        return self._field
+
+    def cleared_region(self) -> tuple[OrientedBox, np.ndarray, float] | None:
+        """For a view from :meth:`with_cleared_region`: the cleared box, the kept points
+        (M, 3) near it, and their rounding ``fine_m`` (subtracted from nearest distances);
+        None on a plain map."""
+        if self._cleared is None:
+            return None
+        box, tree = self._cleared
+        pts = np.zeros((0, 3)) if tree is None else np.asarray(tree.data, dtype=float)
+        return box, pts, 0.5 * math.sqrt(3.0) * self.voxel_size_m * _CLEARED_FINE_FRACTION
+
     def __repr__(self) -> str:
         return (f"OccupancyMap({self.num_occupied} occupied voxels of {self.voxel_size_m * 100:.1f} cm, "
                 f"grid {self.shape.tolist()})")

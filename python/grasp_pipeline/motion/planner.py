@@ -26,7 +26,7 @@ from .config import MotionConfig
 from .exceptions import GoalInCollisionError, PlanningFailedError, StartInCollisionError
 from .poses import validate_joints
 from .state_space import (import_ompl, make_motion_validator, make_planner, make_space, make_state,
-                          state_to_array)
+                          state_to_array, state_validity_checker)
 from .trajectory import JointPath
 from .validity import StateValidator
 
@@ -73,7 +73,7 @@ class JointPlanner:
         v = self.validator
         space = make_space(v.q_min, v.q_max)
         ss = og.SimpleSetup(space)
-        ss.setStateValidityChecker(lambda s: v.is_valid(state_to_array(s)))
+        ss.setStateValidityChecker(state_validity_checker(v))
         si = ss.getSpaceInformation()
         mv = make_motion_validator(si, v, cfg.planner_check_step_rad)
         si.setMotionValidator(mv)

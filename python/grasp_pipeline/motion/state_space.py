@@ -1,10 +1,10 @@
 """OMPL wiring: the 7-D joint space, a batch motion validator, planner construction.
 
 OMPL 2.0.1 from PyPI (nanobind API): states come from ``space.allocState()``, values are
-``s[i]``; a plain Python callable is accepted as state validity checker; a Python subclass
-of ``ompl.base.MotionValidator`` replaces the default discrete motion check so that the
-states of one edge are checked in one vectorised batch (a large speed-up over one Python
-callback per state).
+``s[i]``; a plain Python callable is accepted as state validity checker (we pass the C++
+checker's bound method); a Python subclass of ``ompl.base.MotionValidator`` replaces the
+default discrete motion check so that one edge is one call into the C++ checker (instead of
+one Python callback per interpolated state).
 """
 
 from __future__ import annotations
@@ -54,20 +54,24 @@ def make_state(space, q: np.ndarray):
 
 
 def make_motion_validator(si, validator: StateValidator, step_rad: float):
-    """A MotionValidator that checks an edge's interpolated states (≤ ``step_rad`` per joint)
-    in one batch. The start state of an edge is valid by OMPL's contract and not re-checked."""
+    """A MotionValidator whose ``checkMotion`` hands both OMPL states straight to the C++
+    checker (``check_ompl_motion``: reads ``s[0:7]``, checks the edge's states at ≤
+    ``step_rad`` per joint, coarse-to-fine, first invalid state ends it). The start state
+    of an edge is valid by OMPL's contract and not re-checked."""
     ob, _, _ = import_ompl()
+    check_motion = validator.core().check_ompl_motion
 
-    class BatchMotionValidator(ob.MotionValidator):
-        def __init__(self, si_):
-            super().__init__(si_)
-            self.checks = 0
-
+    class CoreMotionValidator(ob.MotionValidator):
         def checkMotion(self, s1, s2, *rest):  # noqa: N802 (OMPL's name)
-            self.checks += 1
-            return validator.check_segment(state_to_array(s1), state_to_array(s2), step_rad)
+            return check_motion(s1, s2, step_rad)
 
-    return BatchMotionValidator(si)
+    return CoreMotionValidator(si)
+
+
+def state_validity_checker(validator: StateValidator):
+    """The OMPL state validity callable: the C++ checker's ``check_ompl_state`` itself (no
+    Python frame per call)."""
+    return validator.core().check_ompl_state
 
 
 def make_planner(name: str, si, config: MotionConfig):

@@ -15,13 +15,20 @@ region and come close to the table right beside it. Everything else is unchanged
 
 Obstacles come only from perception (environment points, object boxes): never from the
 simulator's ground truth.
+
+The checks run in the C++ core (``_core.StateChecker``, built by :mod:`.core_checker`):
+``check_batch`` / ``is_valid`` / ``check_segment`` delegate to it. The numpy implementation
+stays as the reference (:meth:`StateValidator._python_check_batch`, and :meth:`explain`);
+the tests compare both on random and near-boundary states.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from .. import _core
 from ..robot import description as rm
+from . import core_checker
 from .config import MotionConfig
 from .occupancy import OccupancyMap, OrientedBox
 from .robot_spheres import RobotSpheres
@@ -41,9 +48,40 @@ class StateValidator:
         self._env_idx = np.nonzero(robot.env_mask)[0]
         self._env_r = sph.radius[self._env_idx]
         self._env_hand = robot.hand_mask[self._env_idx]
-        self.allow_target_contact = False
+        self._checked_before = 0
+        self._core_gap_m: float | None = None
+        self._core = None
+        self._scene = None
+        self._allow_target = False
         self.set_scene(env, boxes or [], target_box)
-        self.checked_states = 0
+
+    # ------------------------------------------------------------------ C++ checker
+    def core(self):
+        """The ``_core.StateChecker`` of the current scene (rebuilt after a finger-opening change)."""
+        if self._core is None or self._core_gap_m != self.robot.finger_opening_m:
+            if self._core is not None:
+                self._checked_before += int(self._core.checked_states)
+            model = core_checker.robot_model(self.robot, self.q_min, self.q_max)
+            self._core = _core.StateChecker(model, self._scene)
+            self._core.allow_target_contact = self._allow_target
+            self._core_gap_m = self.robot.finger_opening_m
+        return self._core
+
+    @property
+    def allow_target_contact(self) -> bool:
+        """Hand spheres may enter the (padded) target box region (final approach, lift)."""
+        return self._allow_target
+
+    @allow_target_contact.setter
+    def allow_target_contact(self, allow: bool) -> None:
+        self._allow_target = bool(allow)
+        if self._core is not None:
+            self._core.allow_target_contact = self._allow_target
+
+    @property
+    def checked_states(self) -> int:
+        """States evaluated so far (a segment check stops at its first invalid state)."""
+        return self._checked_before + (int(self._core.checked_states) if self._core is not None else 0)
 
     # ------------------------------------------------------------------ scene
     def required_pad_m(self) -> float:
@@ -64,6 +102,9 @@ class StateValidator:
                 target_box.inflated(self.config.target_ignore_padding_m))
         self._env_thr = self._env_r + self.config.collision_margin_m + (env.inflation_m if env else 0.0)
         self._box_thr = self._env_r + self.config.collision_margin_m
+        self._scene = core_checker.collision_scene(self.config, env, self.boxes, self._env_cleared)
+        if self._core is not None:
+            self._core.set_scene(self._scene)
 
     # ------------------------------------------------------------------ checks
     def _components(self, Q: np.ndarray):
@@ -96,15 +137,25 @@ class StateValidator:
         return lim_ok, self_min, env_slack, box_slack, floor_slack, C
 
     def check_batch(self, Q: np.ndarray) -> np.ndarray:
-        """(N,) True where the state is valid."""
+        """(N,) True where the state (row of Q (N, 7), rad) is valid; rows with NaN/Inf are invalid."""
+        Q = np.atleast_2d(np.asarray(Q, dtype=float))
+        finite = np.all(np.isfinite(Q), axis=-1)
+        if finite.all():
+            return self.core().check_batch(Q)
+        out = np.zeros(len(Q), dtype=bool)
+        out[finite] = self.core().check_batch(Q[finite])
+        return out
+
+    def _python_check_batch(self, Q: np.ndarray) -> np.ndarray:
+        """The numpy reference of :meth:`check_batch` (same semantics, ~100x slower)."""
         lim_ok, self_min, env_slack, box_slack, floor_slack, _ = self._components(Q)
-        self.checked_states += len(lim_ok)
         return (lim_ok & (self_min >= self.config.self_collision_margin_m)
                 & np.all(env_slack >= 0, axis=1) & np.all(box_slack >= 0, axis=1)
                 & np.all(floor_slack >= 0, axis=1))
 
     def is_valid(self, q: np.ndarray) -> bool:
-        return bool(self.check_batch(np.asarray(q, dtype=float)[None])[0])
+        q = np.asarray(q, dtype=float).reshape(-1)
+        return bool(np.all(np.isfinite(q))) and bool(self.core().check(q))
 
     def segment_states(self, qa: np.ndarray, qb: np.ndarray, max_step_rad: float,
                        include_start: bool = False) -> np.ndarray:
@@ -116,8 +167,12 @@ class StateValidator:
 
     def check_segment(self, qa: np.ndarray, qb: np.ndarray, max_step_rad: float,
                       include_start: bool = False) -> bool:
-        """True if every state on the line (step ≤ ``max_step_rad`` per joint) is valid."""
-        return bool(np.all(self.check_batch(self.segment_states(qa, qb, max_step_rad, include_start))))
+        """True if every state on the line (step ≤ ``max_step_rad`` per joint) is valid
+        (C++: coarse-to-fine order, stops at the first invalid state)."""
+        qa, qb = np.asarray(qa, dtype=float).reshape(-1), np.asarray(qb, dtype=float).reshape(-1)
+        if not (np.all(np.isfinite(qa)) and np.all(np.isfinite(qb))):
+            return False
+        return bool(self.core().check_segment(qa, qb, max_step_rad, include_start))
 
     def check_path(self, waypoints: np.ndarray, max_step_rad: float) -> int | None:
         """Index of the first segment with an invalid state (dense check), or None."""

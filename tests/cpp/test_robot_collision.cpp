@@ -1,0 +1,163 @@
+// Robot chain FK and the planning state checker on a small synthetic planar arm.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <random>
+#include <stdexcept>
+
+#include "grasp_core/collision_scene.hpp"
+#include "grasp_core/robot_collision.hpp"
+
+using namespace grasp_core;
+
+namespace {
+
+constexpr double kLinkA_m = 0.5;  // joint 0 -> joint 1
+constexpr double kTool_m = 0.45;  // joint 1 -> tool sphere
+constexpr double kBaseZ_m = 1.0;
+constexpr double kR_m = 0.05;
+
+/// world, base (z = 1), link A (hinge z, joint 0), link B (hinge z, joint 1), tool (fixed).
+RobotCollisionSpec arm_spec() {
+  RobotCollisionSpec s;
+  s.bodies.resize(5);
+  s.bodies[1].p = Vec3(0, 0, kBaseZ_m);
+  s.bodies[2].parent = 1; s.bodies[2].joint = 0;
+  s.bodies[3].parent = 2; s.bodies[3].p = Vec3(kLinkA_m, 0, 0); s.bodies[3].joint = 1;
+  s.bodies[4].parent = 3; s.bodies[4].p = Vec3(kTool_m, 0, 0);
+  auto add = [&](int body, Vec3 c, double r, bool env, bool hand) {
+    s.sphere_body.push_back(body); s.sphere_center.push_back(c); s.sphere_radius.push_back(r);
+    s.sphere_geom.push_back(body); s.env_sphere.push_back(env); s.hand_sphere.push_back(hand);
+  };
+  add(1, Vec3::Zero(), 0.1, false, false);              // 0 base
+  add(2, Vec3(0.25, 0, 0), kR_m, true, false);          // 1 link A
+  add(3, Vec3(0.15, 0, 0), kR_m, true, false);          // 2 link B
+  add(4, Vec3::Zero(), kR_m, true, true);               // 3 tool
+  s.pairs = {{0, 3}};
+  for (int j = 0; j < kArmJoints; ++j) { s.q_min_rad[j] = -3.0; s.q_max_rad[j] = 3.0; }
+  return s;
+}
+
+std::array<double, kArmJoints> q_of(double a, double b) { return {a, b, 0, 0, 0, 0, 0}; }
+
+StateChecker checker(std::shared_ptr<CollisionScene> scene) {
+  return StateChecker(std::make_shared<RobotCollisionModel>(arm_spec()), scene);
+}
+
+std::shared_ptr<CollisionScene> free_scene() {
+  auto s = std::make_shared<CollisionScene>();
+  s->collision_margin_m = 0.005;
+  s->floor_z_m = 0.0;
+  return s;
+}
+
+/// Distance field of one occupied voxel (distances between voxel centres).
+DistanceField one_voxel_field(const Vec3& occupied_m, double voxel_m) {
+  DistanceField f;
+  f.nx = f.ny = f.nz = 40;
+  f.voxel_m = voxel_m;
+  f.inflation_m = std::sqrt(3.0) * voxel_m;
+  f.origin = occupied_m - Vec3::Constant(20.5 * voxel_m);
+  f.values.resize(40 * 40 * 40);
+  for (long long i = 0; i < 40; ++i)
+    for (long long j = 0; j < 40; ++j)
+      for (long long k = 0; k < 40; ++k)
+        f.values[static_cast<std::size_t>((i * 40 + j) * 40 + k)] =
+            static_cast<float>(voxel_m * std::sqrt(double((i - 20) * (i - 20) + (j - 20) * (j - 20) + (k - 20) * (k - 20))));
+  return f;
+}
+
+}  // namespace
+
+TEST(RobotChain, PlanarArmForwardKinematics) {
+  const RobotChain chain(arm_spec().bodies);
+  std::vector<Mat3> R(5);
+  std::vector<Vec3> p(5);
+  const auto q = q_of(0.7, -1.1);
+  chain.poses(q.data(), R.data(), p.data());
+  EXPECT_LT((p[3] - Vec3(kLinkA_m * std::cos(0.7), kLinkA_m * std::sin(0.7), kBaseZ_m)).norm(), 1e-12);
+  const Vec3 tool = p[3] + kTool_m * Vec3(std::cos(-0.4), std::sin(-0.4), 0);
+  EXPECT_LT((p[4] - tool).norm(), 1e-12);
+  EXPECT_LT((R[4] - Eigen::AngleAxisd(-0.4, Vec3::UnitZ()).toRotationMatrix()).norm(), 1e-12);
+}
+
+TEST(RobotChain, RejectsBadStructure) {
+  auto bodies = arm_spec().bodies;
+  bodies[2].parent = 3;
+  EXPECT_THROW(RobotChain{bodies}, std::invalid_argument);
+  bodies = arm_spec().bodies;
+  bodies[2].joint = 7;
+  EXPECT_THROW(RobotChain{bodies}, std::invalid_argument);
+  auto spec = arm_spec();
+  spec.pairs = {{0, 9}};
+  EXPECT_THROW(RobotCollisionModel{spec}, std::invalid_argument);
+}
+
+TEST(StateChecker, LimitsFloorAndSelfCollision) {
+  auto scene = free_scene();
+  StateChecker c = checker(scene);
+  EXPECT_TRUE(c.check(q_of(0, 0).data()));
+  EXPECT_FALSE(c.check(q_of(3.1, 0).data()));                // joint limit
+  EXPECT_FALSE(c.check(q_of(0, 2.99).data()));               // tool folded back onto the base
+  scene = free_scene();
+  scene->floor_z_m = kBaseZ_m - 0.04;                        // spheres of r = 5 cm dip below
+  c.set_scene(scene);
+  EXPECT_FALSE(c.check(q_of(0, 0).data()));
+}
+
+TEST(StateChecker, BoxesAndDistanceField) {
+  auto scene = free_scene();
+  const Vec3 tool(kLinkA_m + kTool_m, 0, kBaseZ_m);
+  scene->boxes.emplace_back(tool + Vec3(0.2, 0, 0), Mat3::Identity(), Vec3::Constant(0.2));
+  StateChecker c = checker(scene);
+  EXPECT_TRUE(c.check(q_of(0, 0).data()));                   // 10 cm - r - margin > 0
+  scene = free_scene();
+  scene->boxes.emplace_back(tool + Vec3(0.14, 0, 0), Mat3::Identity(), Vec3::Constant(0.2));
+  c.set_scene(scene);
+  EXPECT_FALSE(c.check(q_of(0, 0).data()));                  // 4 cm gap < r + margin
+  scene = free_scene();
+  scene->has_env = true;
+  scene->field = one_voxel_field(tool + Vec3(0.0, 0.2, 0), 0.01);
+  c.set_scene(scene);
+  EXPECT_TRUE(c.check(q_of(0, 0).data()));
+  scene = free_scene();
+  scene->has_env = true;
+  scene->field = one_voxel_field(tool + Vec3(0.0, 0.06, 0), 0.01);
+  c.set_scene(scene);
+  EXPECT_FALSE(c.check(q_of(0, 0).data()));                  // 6 cm < r + margin + inflation
+}
+
+TEST(StateChecker, SegmentFindsAnObstacleBetweenValidEnds) {
+  auto scene = free_scene();
+  scene->boxes.emplace_back(Vec3(kLinkA_m + kTool_m, 0, kBaseZ_m), Mat3::Identity(), Vec3::Constant(0.02));
+  StateChecker c = checker(scene);
+  const auto a = q_of(0, -1.0), b = q_of(0, 1.0);
+  EXPECT_TRUE(c.check(a.data()));
+  EXPECT_TRUE(c.check(b.data()));
+  EXPECT_FALSE(c.check_segment(a.data(), b.data(), 0.01, false));
+  const auto b2 = q_of(0, -0.5);
+  EXPECT_TRUE(c.check_segment(a.data(), b2.data(), 0.01, true));
+  EXPECT_THROW(c.check_segment(a.data(), b.data(), 0.0, false), std::invalid_argument);
+  std::vector<double> Q = {0, 0, 0, 0, 0, 0, 0, 0, 2.99, 0, 0, 0, 0, 0};
+  std::uint8_t out[2] = {9, 9};
+  c.check_batch(Q.data(), 2, out);
+  EXPECT_EQ(out[0], 0);  // the tool sits in the box at q = 0
+  EXPECT_EQ(out[1], 0);
+}
+
+TEST(ClearedRegion, NearestDistanceEqualsBruteForce) {
+  std::mt19937 gen(7);
+  std::uniform_real_distribution<double> u(-0.3, 0.3);
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 800; ++i) pts.emplace_back(u(gen), u(gen), 0.1 * u(gen));
+  const double pad = 0.09, fine = 0.002, infl = 0.017;
+  const ClearedRegion region(ObstacleBox(Vec3::Zero(), Mat3::Identity(), Vec3::Constant(0.1)), pad, pts, fine, infl);
+  for (int k = 0; k < 300; ++k) {
+    const Vec3 p(1.5 * u(gen), 1.5 * u(gen), u(gen));
+    double best = kInfinity;
+    for (const Vec3& q : pts) best = std::min(best, (p - q).norm());
+    const double expected = best < pad ? (best - fine) + infl : kInfinity;
+    EXPECT_DOUBLE_EQ(region.distance(p), expected);
+  }
+}
