@@ -36,7 +36,7 @@ from ..app.run_command import sigterm_as_interrupt
 from ..exceptions import InputError
 from ..report.serialize import check_writable, check_writable_dir, write_json
 from .clutter_round import run_round
-from .grasp_bench import STAGE_ORDER, scene_seed, scene_settings, stats
+from .grasp_bench import failures_by_stage, scene_seed, scene_settings, stats
 from .scheduler import JobSpec, run_jobs, worker_env
 
 log = logging.getLogger(__name__)
@@ -71,20 +71,6 @@ def _mean_std(values: list) -> dict:
     m = sum(v) / len(v)
     return {"mean": round(m, 4), "std": round(math.sqrt(sum((x - m) ** 2 for x in v) / len(v)), 4),
             "n": len(v)}
-
-
-def _failures_by_stage(attempts: list[dict]) -> dict:
-    out: dict = {}
-    for a in attempts:
-        if a["success"]:
-            continue
-        f = out.setdefault(a["stage"], {"count": 0, "reasons": {}})
-        f["count"] += 1
-        f["reasons"][a["reason"]] = f["reasons"].get(a["reason"], 0) + 1
-    order = {s: i for i, s in enumerate(STAGE_ORDER)}
-    return {s: {"count": out[s]["count"],
-                "reasons": dict(sorted(out[s]["reasons"].items(), key=lambda kv: (-kv[1], kv[0])))}
-            for s in sorted(out, key=lambda s: (order.get(s, len(order)), s))}
 
 
 def _success_by_object(rows: list[dict]) -> dict:
@@ -130,7 +116,7 @@ def aggregate(rows: list[dict], protocol: str, objects: str, seeds: list[int], w
            "std": {k: _mean_std([s[k] for s in per_seed])["std"] for k in ("gsr", "dr")},
            "rounds_failed": sum(1 for r in rows if r.get("error")),
            "end_reasons": _end_reasons(rows),
-           "failures_by_stage": _failures_by_stage(attempts),
+           "failures_by_stage": failures_by_stage(attempts, ok_key="success"),
            "success_by_object": _success_by_object(rows),
            "segmentation": _segmentation(rows),
            "time_per_attempt_s": stats(a["wall_s"] for a in attempts),

@@ -371,11 +371,12 @@ def _group_success(rows: list[dict], key) -> dict:
     return dict(sorted(groups.items()))
 
 
-def _failures_by_stage(objs: list[dict]) -> dict:
-    """The objects not picked, by stage (pipeline order) and reason (most frequent first)."""
+def failures_by_stage(objs: list[dict], ok_key: str = "picked") -> dict:
+    """The rows whose ``ok_key`` is false (objects not picked, failed attempts), by stage
+    (pipeline order) and reason (most frequent first)."""
     failures: dict = {}
     for o in objs:
-        if o["picked"]:
+        if o[ok_key]:
             continue
         f = failures.setdefault(o["stage"], {"count": 0, "reasons": {}})
         f["count"] += 1
@@ -426,7 +427,7 @@ def _outcome_figures(records: list[dict], objs: list[dict]) -> dict:
         "false_successes": sum(1 for r in records for p in r["pick_rows"]
                                if p["reported_success"] and not p["success"]),
         "failures": n_obj - n_pick,
-        "failures_by_stage": _failures_by_stage(objs),
+        "failures_by_stage": failures_by_stage(objs),
     }
 
 
