@@ -105,7 +105,7 @@ double slice_median_top(const std::vector<double>& d, double sigma_m, double sli
     for (double x : d)
       if (x >= top - depth) kept.push_back(x);
     if (kept.size() < 3) break;
-    const double next = median(kept);
+    const double next = median(std::move(kept));  // no copy; kept is refilled above
     if (next == top) break;
     top = next;
   }
@@ -149,6 +149,19 @@ constexpr std::size_t kPointsPerBucket = 4;
 /// Below this many points sort_lex() is a plain std::sort.
 constexpr std::size_t kMinBucketSortPoints = 64;
 
+/// Buckets up to this size are insertion-sorted (std::sort's setup dominates tiny ranges).
+constexpr std::size_t kInsertionSortMax = 16;
+
+/// Insertion sort of [first, last) by lex_less.
+void insertion_sort_lex(std::vector<P2>::iterator first, std::vector<P2>::iterator last) {
+  for (auto i = first + 1; i < last; ++i) {
+    const P2 p = *i;
+    auto j = i;
+    for (; j > first && lex_less(p, *(j - 1)); --j) *j = *(j - 1);
+    *j = p;
+  }
+}
+
 /// Sort points by lex_less. A counting sort into buckets of a (the bucket index
 /// floor((a - a_min) * scale) is non-decreasing in a: a correctly rounded subtraction and a
 /// multiplication by a positive constant are monotone), then std::sort inside each bucket.
@@ -185,7 +198,12 @@ void sort_lex(std::vector<P2>& pts, std::vector<P2>& scratch) {
   for (std::size_t k = 0; k < n_buckets; ++k) {
     const auto first = scratch.begin() + static_cast<std::ptrdiff_t>(start[k]);
     const auto last = scratch.begin() + static_cast<std::ptrdiff_t>(start[k + 1]);
-    if (last - first > 1) std::sort(first, last, lex_less);
+    if (last - first <= 1) continue;
+    if (last - first <= static_cast<std::ptrdiff_t>(kInsertionSortMax)) {
+      insertion_sort_lex(first, last);
+    } else {
+      std::sort(first, last, lex_less);
+    }
   }
   pts.swap(scratch);
 }
