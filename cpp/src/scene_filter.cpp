@@ -1,15 +1,19 @@
 // SPEC 1.2–1.5 — the per-frame scene filter. See scene_filter.hpp.
 //
-// Data path per frame (no PCL cloud of the whole frame is ever built):
-//   1. one pass over the caller's strided rows: drop NaN/Inf rows and rows beyond the
-//      coordinate bound (max_abs_coordinate_m), pack the valid points as contiguous
-//      floats (separate x, y, z arrays);
+// Data path per frame (no PCL cloud of the whole frame is ever built; the whole-frame
+// arrays live in the filter's SceneFilterWorkspace and are reused from frame to frame):
+//   1. one pass over the caller's rows: drop NaN/Inf rows and rows beyond the coordinate
+//      bound (max_abs_coordinate_m), pack the valid points as contiguous floats (separate
+//      x, y, z arrays) and label the dropped rows invalid (all-valid blocks of a float32
+//      (N, 3) array are checked by one vectorised test and copied without compaction);
 //   2. sequential extraction: each plane searches a <= plane_fit_max_points subsample
-//      (PCL RANSAC, plane_fit.cpp), then one tight loop counts its inliers on the whole
-//      packed cloud and another drops them from the remainder;
+//      (PCL RANSAC, plane_fit.cpp), then one tight loop marks and counts its inliers on the
+//      whole packed cloud and another drops them from the remainder;
 //   3. table choice, persistence update;
-//   4. band split into a packed candidate array, Euclidean clustering (clustering.cpp),
-//      labels mapped back to the input rows.
+//   4. band split into a packed candidate array (blocks without a point above the band are
+//      skipped after a vectorised count), Euclidean clustering (clustering.cpp), labels
+//      mapped back to the input rows.
+// The loops over the whole frame are built as AVX2 + baseline clones (simd_clones.hpp).
 #include "grasp_core/scene_filter.hpp"
 #include "simd_clones.hpp"
 
