@@ -105,7 +105,7 @@ double slice_median_top(const std::vector<double>& d, double sigma_m, double sli
     for (double x : d)
       if (x >= top - depth) kept.push_back(x);
     if (kept.size() < 3) break;
-    const double next = median(kept);
+    const double next = median(std::move(kept));  // no copy; kept is refilled above
     if (next == top) break;
     top = next;
   }
@@ -136,6 +136,78 @@ double extent_along(const std::vector<double>& a, const std::vector<double>& b, 
 
 namespace {
 
+/// A point of the footprint in the (u, v) plane [m].
+struct P2 {
+  double a, b;
+};
+
+/// Lexicographic order on (a, b): the order of Andrew's monotone chain.
+bool lex_less(const P2& p, const P2& q) { return p.a < q.a || (p.a == q.a && p.b < q.b); }
+
+/// Average points per bucket of sort_lex().
+constexpr std::size_t kPointsPerBucket = 4;
+/// Below this many points sort_lex() is a plain std::sort.
+constexpr std::size_t kMinBucketSortPoints = 64;
+
+/// Buckets up to this size are insertion-sorted (std::sort's setup dominates tiny ranges).
+constexpr std::size_t kInsertionSortMax = 16;
+
+/// Insertion sort of [first, last) by lex_less.
+void insertion_sort_lex(std::vector<P2>::iterator first, std::vector<P2>::iterator last) {
+  for (auto i = first + 1; i < last; ++i) {
+    const P2 p = *i;
+    auto j = i;
+    for (; j > first && lex_less(p, *(j - 1)); --j) *j = *(j - 1);
+    *j = p;
+  }
+}
+
+/// Sort points by lex_less. A counting sort into buckets of a (the bucket index
+/// floor((a - a_min) * scale) is non-decreasing in a: a correctly rounded subtraction and a
+/// multiplication by a positive constant are monotone), then std::sort inside each bucket.
+/// Points that compare equal are identical, so the result equals std::sort's exactly;
+/// footprints are spread evenly in a, so this is ~linear instead of n log n.
+void sort_lex(std::vector<P2>& pts, std::vector<P2>& scratch) {
+  const std::size_t n = pts.size();
+  if (n < kMinBucketSortPoints) {
+    std::sort(pts.begin(), pts.end(), lex_less);
+    return;
+  }
+  double lo = pts[0].a, hi = pts[0].a;
+  for (const P2& p : pts) {
+    lo = std::min(lo, p.a);
+    hi = std::max(hi, p.a);
+  }
+  const std::size_t n_buckets = n / kPointsPerBucket + 1;
+  const double scale = static_cast<double>(n_buckets - 1) / (hi - lo);
+  if (!(hi > lo) || !std::isfinite(scale)) {
+    std::sort(pts.begin(), pts.end(), lex_less);
+    return;
+  }
+  const auto bucket_of = [&](const P2& p) {
+    return std::min(n_buckets - 1, static_cast<std::size_t>((p.a - lo) * scale));
+  };
+  std::vector<std::size_t> start(n_buckets + 1, 0);
+  for (const P2& p : pts) ++start[bucket_of(p) + 1];
+  for (std::size_t k = 0; k < n_buckets; ++k) start[k + 1] += start[k];
+  scratch.resize(n);
+  {
+    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+    for (const P2& p : pts) scratch[fill[bucket_of(p)]++] = p;
+  }
+  for (std::size_t k = 0; k < n_buckets; ++k) {
+    const auto first = scratch.begin() + static_cast<std::ptrdiff_t>(start[k]);
+    const auto last = scratch.begin() + static_cast<std::ptrdiff_t>(start[k + 1]);
+    if (last - first <= 1) continue;
+    if (last - first <= static_cast<std::ptrdiff_t>(kInsertionSortMax)) {
+      insertion_sort_lex(first, last);
+    } else {
+      std::sort(first, last, lex_less);
+    }
+  }
+  pts.swap(scratch);
+}
+
 /// Vertices of the 2-D convex hull of (a, b) (Andrew's monotone chain), as two coordinate
 /// lists. The max and min of a*cos + b*sin over a point set are attained at hull vertices,
 /// and the vertices are original points, so spans over the hull equal spans over all
@@ -144,14 +216,10 @@ namespace {
 /// equal are identical, so the order, and hence the hull, is the same either way.
 void convex_hull_2d(const std::vector<double>& a, const std::vector<double>& b,
                     std::vector<double>* ha, std::vector<double>* hb) {
-  struct P2 {
-    double a, b;
-  };
   const std::size_t n = std::min(a.size(), b.size());
-  std::vector<P2> pts(n);
+  std::vector<P2> pts(n), scratch;
   for (std::size_t i = 0; i < n; ++i) pts[i] = P2{a[i], b[i]};
-  std::sort(pts.begin(), pts.end(),
-            [](const P2& p, const P2& q) { return p.a < q.a || (p.a == q.a && p.b < q.b); });
+  sort_lex(pts, scratch);
   if (n < 3) {
     for (const P2& p : pts) { ha->push_back(p.a); hb->push_back(p.b); }
     return;

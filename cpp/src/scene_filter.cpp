@@ -1,15 +1,19 @@
 // SPEC 1.2–1.5 — the per-frame scene filter. See scene_filter.hpp.
 //
-// Data path per frame (no PCL cloud of the whole frame is ever built):
-//   1. one pass over the caller's strided rows: drop NaN/Inf rows and rows beyond the
-//      coordinate bound (max_abs_coordinate_m), pack the valid points as contiguous
-//      floats (separate x, y, z arrays);
+// Data path per frame (no PCL cloud of the whole frame is ever built; the whole-frame
+// arrays live in the filter's SceneFilterWorkspace and are reused from frame to frame):
+//   1. one pass over the caller's rows: drop NaN/Inf rows and rows beyond the coordinate
+//      bound (max_abs_coordinate_m), pack the valid points as contiguous floats (separate
+//      x, y, z arrays) and label the dropped rows invalid (all-valid blocks of a float32
+//      (N, 3) array are checked by one vectorised test and copied without compaction);
 //   2. sequential extraction: each plane searches a <= plane_fit_max_points subsample
-//      (PCL RANSAC, plane_fit.cpp), then one tight loop counts its inliers on the whole
-//      packed cloud and another drops them from the remainder;
+//      (PCL RANSAC, plane_fit.cpp), then one tight loop marks and counts its inliers on the
+//      whole packed cloud and another drops them from the remainder;
 //   3. table choice, persistence update;
-//   4. band split into a packed candidate array, Euclidean clustering (clustering.cpp),
-//      labels mapped back to the input rows.
+//   4. band split into a packed candidate array (blocks without a point above the band are
+//      skipped after a vectorised count), Euclidean clustering (clustering.cpp), labels
+//      mapped back to the input rows.
+// The loops over the whole frame are built as AVX2 + baseline clones (simd_clones.hpp).
 #include "grasp_core/scene_filter.hpp"
 #include "simd_clones.hpp"
 
@@ -51,7 +55,8 @@ struct Packed {
   const float* x = nullptr;
   const float* y = nullptr;
   const float* z = nullptr;
-  const int* rows = nullptr;    ///< input row of each valid point
+  const int* rows = nullptr;    ///< input row of each valid point; nullptr: row = index
+  int row(std::size_t i) const { return rows ? rows[i] : static_cast<int>(i); }
   std::size_t n = 0;            ///< number of valid points
   std::size_t out_of_range = 0; ///< finite rows dropped by the coordinate bound
   std::size_t size() const { return n; }
@@ -153,8 +158,8 @@ void pack_rows(const T* xyz, std::size_t begin, std::size_t end, std::size_t str
 }
 
 /// Step 1 of the data path: pack the valid rows into `ws` (x, y, z, rows) in one pass and,
-/// when `labels` is given (one per input row), label each row kLabelEnvironment (valid) or
-/// kLabelInvalid in the same pass.
+/// when `labels` is given (one per input row, filled with kLabelEnvironment by the caller),
+/// label the invalid rows kLabelInvalid in the same pass.
 /// Fast path for contiguous float rows (a numpy (N, 3) float32 array): blocks of rows that
 /// are all valid (the usual case) are checked with one vectorised test and copied without
 /// the per-row compaction; other blocks go row by row. Same result either way.
@@ -177,32 +182,36 @@ Packed pack_finite(const T* xyz, std::size_t n_rows, std::size_t stride, double 
   const RowCheck check(bound);
   std::size_t m = 0, oor = 0;
   constexpr bool kFloat = std::is_same_v<T, float>;
+  // While every row so far was valid, packed index == input row: `rows` is only written
+  // from the first invalid row on (a frame without invalid rows never writes it).
+  bool identity_rows = true;
   if (!kFloat || stride != 3) {
+    identity_rows = false;
     pack_rows(xyz, 0, n_rows, stride, check, xs, ys, zs, rows, labels, m, oor);
   } else {
     for (std::size_t b = 0; b < n_rows; b += kPackBlockRows) {
       const std::size_t e = std::min(n_rows, b + kPackBlockRows);
       const T* block = xyz + 3 * b;
       if (!all_within(reinterpret_cast<const float*>(block), 3 * (e - b), check.bound_f)) {
+        if (identity_rows) {
+          for (std::size_t j = 0; j < m; ++j) rows[j] = static_cast<int>(j);
+          identity_rows = false;
+        }
         pack_rows(xyz, b, e, stride, check, xs, ys, zs, rows, labels, m, oor);
         continue;
       }
       const std::size_t count = e - b;
-      float* bx = xs + m;
-      float* by = ys + m;
-      float* bz = zs + m;
-      int* br = rows + m;
-      deinterleave_xyz(reinterpret_cast<const float*>(block), count, bx, by, bz);
-      for (std::size_t j = 0; j < count; ++j) br[j] = static_cast<int>(b + j);
-      if (labels) std::fill(labels + b, labels + e, kLabelEnvironment);
-      m += count;
+      deinterleave_xyz(reinterpret_cast<const float*>(block), count, xs + m, ys + m, zs + m);
+      if (!identity_rows)
+        for (std::size_t j = 0; j < count; ++j) rows[m + j] = static_cast<int>(b + j);
+      m += count;  // labels: already kLabelEnvironment
     }
   }
   Packed out;
   out.x = xs;
   out.y = ys;
   out.z = zs;
-  out.rows = rows;
+  out.rows = identity_rows ? nullptr : rows;
   out.n = m;
   out.out_of_range = oor;
   return out;
@@ -404,7 +413,7 @@ std::size_t split_band(const Packed& pk, const Plane& table, double band_m,
       cand[3 * w] = x[i];
       cand[3 * w + 1] = y[i];
       cand[3 * w + 2] = z[i];
-      cand_rows[w] = pk.rows[i];
+      cand_rows[w] = pk.row(i);
       w += (nx * x[i] + ny * y[i] + nz * z[i] + c > band) ? 1 : 0;
     }
   }
@@ -468,7 +477,7 @@ SceneFilterResult process_frame(const T* xyz, std::size_t n_rows, std::size_t ro
                                 SceneFilterWorkspace& ws) {
   const auto t0 = Clock::now();
   SceneFilterResult res;
-  res.labels.resize(n_rows);  // every element is written by pack_finite
+  res.labels.assign(n_rows, kLabelEnvironment);  // pack_finite marks the invalid rows
   const Packed pk =
       pack_finite(xyz, n_rows, row_stride, params.max_abs_coordinate_m, ws, res.labels.data());
   run_frame(pk, n_rows, params, persistence, frame_seed, oor_reported, ws, res);
