@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -169,15 +170,43 @@ int RobotCollisionModel::build_tree(std::vector<int>& idx, std::size_t begin, st
 namespace {
 
 /// Per-call scratch space and the checks of one state.
+/// Scratch buffers of one thread, reused by every evaluation on that thread (no allocation
+/// per call). Node stamps only grow, so entries left by another model never match.
+struct Scratch {
+  std::vector<Mat3> R;
+  std::vector<Vec3> p, c, node_w;
+  std::vector<std::uint8_t> posed;
+  std::vector<int> near_boxes;
+  std::vector<std::uint32_t> node_stamp;
+  std::uint32_t stamp = 0;
+  bool busy = false;
+};
+
+Scratch& thread_scratch() {
+  thread_local Scratch s;
+  return s;
+}
+
 class Evaluator {
  public:
   Evaluator(const RobotCollisionModel& m, const CollisionScene& sc, bool allow_target)
       : m_(m), s_(m.spec()), sc_(sc), allow_(allow_target && sc.has_cleared),
-        R_(static_cast<std::size_t>(m.chain().num_bodies())), p_(R_.size()),
-        c_(s_.sphere_radius.size()), posed_(m.links().size(), 0), node_w_(m.nodes().size()),
-        node_stamp_(m.nodes().size(), 0) {
+        own_(thread_scratch().busy ? std::make_unique<Scratch>() : nullptr),
+        w_(own_ ? *own_ : thread_scratch()),
+        R_(w_.R), p_(w_.p), c_(w_.c), posed_(w_.posed), near_boxes_(w_.near_boxes),
+        node_w_(w_.node_w), node_stamp_(w_.node_stamp), stamp_(w_.stamp) {
+    w_.busy = true;
+    R_.resize(static_cast<std::size_t>(m.chain().num_bodies()));
+    p_.resize(R_.size());
+    c_.resize(s_.sphere_radius.size());
+    posed_.resize(m.links().size());
+    node_w_.resize(m.nodes().size());
+    node_stamp_.resize(m.nodes().size(), 0);
     near_boxes_.reserve(sc.boxes.size());
   }
+  ~Evaluator() { w_.busy = false; }
+  Evaluator(const Evaluator&) = delete;
+  Evaluator& operator=(const Evaluator&) = delete;
 
   bool valid(const double* q) {
     for (int j = 0; j < kArmJoints; ++j)
@@ -352,14 +381,16 @@ class Evaluator {
   const RobotCollisionSpec& s_;
   const CollisionScene& sc_;
   const bool allow_;
-  std::vector<Mat3> R_;
-  std::vector<Vec3> p_;
-  std::vector<Vec3> c_;
-  std::vector<std::uint8_t> posed_;
-  std::vector<int> near_boxes_;
-  std::vector<Vec3> node_w_;
-  std::vector<std::uint32_t> node_stamp_;
-  std::uint32_t stamp_ = 0;
+  std::unique_ptr<Scratch> own_;  ///< only when the thread's scratch is in use already
+  Scratch& w_;
+  std::vector<Mat3>& R_;
+  std::vector<Vec3>& p_;
+  std::vector<Vec3>& c_;
+  std::vector<std::uint8_t>& posed_;
+  std::vector<int>& near_boxes_;
+  std::vector<Vec3>& node_w_;
+  std::vector<std::uint32_t>& node_stamp_;
+  std::uint32_t& stamp_;
 };
 
 }  // namespace

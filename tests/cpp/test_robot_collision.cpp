@@ -161,3 +161,17 @@ TEST(ClearedRegion, NearestDistanceEqualsBruteForce) {
     EXPECT_DOUBLE_EQ(region.distance(p), expected);
   }
 }
+
+TEST(StateChecker, PartialPairListUsesTheListPath) {
+  auto spec = arm_spec();
+  // a second tool sphere, paired with nothing: the pair list no longer covers whole link pairs
+  spec.sphere_body.push_back(4); spec.sphere_center.push_back(Vec3(0.1, 0, 0));
+  spec.sphere_radius.push_back(kR_m); spec.sphere_geom.push_back(4);
+  spec.env_sphere.push_back(1); spec.hand_sphere.push_back(1);
+  const auto model = std::make_shared<RobotCollisionModel>(spec);
+  EXPECT_FALSE(model->complete_link_pairs());
+  StateChecker c(model, free_scene());
+  EXPECT_TRUE(c.check(q_of(0, 0).data()));
+  EXPECT_FALSE(c.check(q_of(0, 2.99).data()));  // the paired tool sphere still hits the base
+  EXPECT_TRUE(StateChecker(std::make_shared<RobotCollisionModel>(arm_spec()), free_scene()).robot().complete_link_pairs());
+}
