@@ -19,8 +19,10 @@ observations. So nothing retires while nobody looks, and the first frame of a lo
 refreshes every object in view before the rest (not seen for ``nadir_hold_s`` /
 ``max_age_s``) retire: an object out of view at the settle view loses its NADIR track and
 the pick re-probes it, as before; an object in view keeps its NADIR estimate (an oblique
-view never overwrites one). The old path differed only where the camera, looking at the
-tray while placing, retired a NADIR track of an object it saw again at home.
+view never overwrites one). The old path differs where the camera, looking at the tray
+while placing, retired a NADIR track of an object it then saw again at home (a re-probe
+the new path does not need), and its frames during motions also fed the median windows
+(estimates differ in their last digits); ``bench frames`` compares the outcomes.
 """
 
 from __future__ import annotations
