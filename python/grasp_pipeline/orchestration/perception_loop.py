@@ -12,6 +12,17 @@ frame for ``stale_timeout_s``" is measured on the camera's *looking clock*
 wall of simulated time. A motion during which nobody looks does not make perception
 stale; a camera that delivers nothing for ``stale_timeout_s`` while someone looks does.
 With continuous frames the looking clock is the simulated clock (the old rule).
+
+Tracks with frames on demand: tracks keep ageing on simulated time (``last_seen_s``), but
+the core's tracker retires them only when a frame is processed, after that frame's
+observations. So nothing retires while nobody looks, and the first frame of a look
+refreshes every object in view before the rest (not seen for ``nadir_hold_s`` /
+``max_age_s``) retire: an object out of view at the settle view loses its NADIR track and
+the pick re-probes it, as before; an object in view keeps its NADIR estimate (an oblique
+view never overwrites one). The old path differs where the camera, looking at the tray
+while placing, retired a NADIR track of an object it then saw again at home (a re-probe
+the new path does not need), and its frames during motions also fed the median windows
+(estimates differ in their last digits); ``bench frames`` compares the outcomes.
 """
 
 from __future__ import annotations
