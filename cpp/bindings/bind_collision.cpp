@@ -310,6 +310,7 @@ void bind_collision(py::module_& m) {
           ompl_values(s1, a);
           ompl_values(s2, b);
           if (!finite7(a) || !finite7(b) || !(step > 0.0) || !std::isfinite(step)) return false;
+          py::gil_scoped_release nogil;  // an edge is many states; a single state is not worth it
           return c.check_segment(a, b, step, false);
         }, py::arg("s1"), py::arg("s2"), py::arg("max_step_rad"),
         "OMPL motion callback: every state after s1 up to s2 (the start is valid by contract).")
