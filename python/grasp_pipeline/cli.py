@@ -105,6 +105,10 @@ def _add_clutter_bench(bsub) -> None:
     c.add_argument("--no-progress", action="store_true", help="no progress bar")
     c.add_argument("--round-timeout", type=positive_float, default=3600.0, metavar="S",
                    help="wall-clock limit of one round in seconds (default 3600)")
+    c.add_argument("--rerun", type=Path, default=None, metavar="DIR",
+                   help="also write one Rerun recording per round into this folder, named like the "
+                        "round's folder: DIR/seed_<K>_round_<NNN>_scene_<S>.rrd (open one with "
+                        "'rerun FILE.rrd'). Needs pip install 'grasp-pipeline[rerun]'")
     _add_backend_options(c)
     _add_config_options(c, "scene_filter, obb, camera, sim, clutter, motion, scan, grasp, declutter",
                         "clutter.objects_per_scene=3")
@@ -191,6 +195,10 @@ def _add_pick_options(p: argparse.ArgumentParser, out: str) -> None:
     p.add_argument("--json", type=Path, default=None, help="report path (default OUT/report.json)")
     p.add_argument("--no-video", action="store_true", help="skip the MP4")
     p.add_argument("--no-scan", action="store_true", help="pick from the rough (oblique) view")
+    p.add_argument("--rerun", type=Path, default=None, metavar="PATH.rrd",
+                   help="also write a Rerun recording of the run (3-D point cloud, boxes, grasps, "
+                        "camera, TCP paths, stages, series on simulated time); open it with "
+                        "'rerun PATH.rrd'. Needs pip install 'grasp-pipeline[rerun]'")
     _add_config_options(p, "scene_filter, obb, camera, sim, clutter, motion, scan, grasp, video",
                         "grasp.lift_height_m=0.12")
 
@@ -277,7 +285,8 @@ def _run_bench(args: argparse.Namespace) -> None:
             protocol=args.protocol, objects=args.objects, rounds=args.rounds, seeds=args.seed,
             workers=args.workers, json_path=args.json, out_dir=args.out,
             progress=not args.no_progress, round_timeout_s=args.round_timeout,
-            overrides=(args.config, args.sets), backend=args.backend, address=args.address)
+            overrides=(args.config, args.sets), backend=args.backend, address=args.address,
+            rerun_dir=args.rerun)
         print(clutter_headline(result))
         print(f"JSON: {args.json}\nsummary: {result['summary']}")
     elif args.bench == "workers":

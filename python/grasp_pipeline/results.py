@@ -126,6 +126,7 @@ class RunReport:
     picks: list = field(default_factory=list)        # PickResult
     motion_plans: list = field(default_factory=list)
     video: Optional[str] = None
+    recording: Optional[str] = None    # the Rerun recording (.rrd) with --rerun
     warnings: list = field(default_factory=list)
     timings: dict = field(default_factory=dict)
     extra: dict = field(default_factory=dict)

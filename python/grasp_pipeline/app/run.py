@@ -23,6 +23,7 @@ from ..orchestration import (GeometricGraspSource, GraspSource, PickContext, Sta
 from ..orchestration.declutter import clear_table
 from ..orchestration.tracks import track_summary
 from ..report.serialize import check_writable, check_writable_dir, write_json
+from ..report.rerun_recorder import RerunRecorder, check_recording_path, import_rerun
 from ..report.snapshot_recorder import SnapshotRecorder
 from ..report.video_recorder import VideoRecorder
 from ..results import (STATUS_COMPLETE, STATUS_FAILED, STATUS_INTERRUPTED, RunReport, ScanReport,
@@ -116,20 +117,31 @@ def _real_time(report: RunReport, name: str, sim_s: float, wall_s: float) -> Non
     report.timings[f"{name}_real_time_factor"] = sim_s / wall_s if wall_s > 0 else 0.0
 
 
-def _check_outputs(out_dir: Path, json_path, video: bool) -> None:
+def _check_outputs(out_dir: Path, json_path, rerun) -> None:
+    """Every output path, and the Rerun SDK when recording (before the simulation starts)."""
     check_writable_dir(out_dir, "output folder (--out)")
     if json_path is not None:
         check_writable(json_path, "report file (--json)")
+    if rerun is not None:
+        import_rerun()
+        check_recording_path(rerun)
 
 
-def _recorders(system: System, out_dir: Path, video: bool, report: RunReport, settings: Settings):
-    """(snapshots, video recorder or None); subscribes them and the pick evaluation. The
-    video renders its own view at ``settings.video``'s rate and size on the event stream's
-    ticks — never through the eye-in-hand camera."""
+def _recorders(system: System, out_dir: Path, video: bool, report: RunReport, settings: Settings,
+               rerun=None) -> tuple:
+    """(snapshots, video recorder or None, Rerun recorder or None); subscribes them and the
+    pick evaluation. The video renders its own view at ``settings.video``'s rate and size on
+    the event stream's ticks — never through the eye-in-hand camera."""
     snapshots = SnapshotRecorder(out_dir, SNAPSHOTS).attach(system.events)
     PickEvaluator(system.world).attach(system.events)
+    recording = None if rerun is None else \
+        RerunRecorder(rerun, system.world, settings.rerun).attach(system.events)
+    return snapshots, _video(system, out_dir, video, report, settings), recording
+
+
+def _video(system: System, out_dir: Path, video: bool, report: RunReport, settings: Settings):
     if not video:
-        return snapshots, None
+        return None
     from ..sim.exceptions import RenderUnavailable
     from ..sim.scene_view import SceneView
 
@@ -138,10 +150,10 @@ def _recorders(system: System, out_dir: Path, video: bool, report: RunReport, se
     except RenderUnavailable as exc:
         log.warning("no video: %s", exc)
         report.warnings.append(f"video skipped: {exc}")
-        return snapshots, None
+        return None
     recorder = VideoRecorder(view.render, out_dir / "run.mp4", fps=settings.video.video_fps,
                              on_close=view.close)
-    return snapshots, recorder.attach(system.events)
+    return recorder.attach(system.events)
 
 
 def run_pipeline(scene: str = "reference", seed: int = 0,
@@ -150,7 +162,8 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
                  settings: Optional[Settings] = None, video: bool = True, place: bool = True,
                  scan: bool = True, grasp_source: Optional[GraspSource] = None,
                  prepare: Optional[Callable[[System], None]] = None,
-                 objects: str = "builtin", declutter: bool = False) -> RunReport:
+                 objects: str = "builtin", declutter: bool = False,
+                 rerun: str | Path | None = None) -> RunReport:
     """Run the whole pipeline headless; returns (and writes to ``json_path``) the report.
 
     ``scene``: ``"reference"``, ``"random"``/``"sparse"``, ``"packed"``, ``"pile"`` (with
@@ -161,18 +174,20 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
     own recorders to ``system.events``, or inject faults in tests);
     ``declutter``: instead of picking every target of the first look, clear the table one
     pick at a time, looking again after each (:mod:`~grasp_pipeline.orchestration.declutter`;
-    ignored with ``select``)."""
+    ignored with ``select``);
+    ``rerun``: also record the run into this ``.rrd`` file (:mod:`~grasp_pipeline.report.rerun_recorder`;
+    the Rerun SDK is an optional extra, checked before the simulation starts)."""
     wall0 = time.perf_counter()
     settings = settings or load_settings(SECTIONS)
     out_dir = Path(out_dir)
-    _check_outputs(out_dir, json_path, video)
+    _check_outputs(out_dir, json_path, rerun)
     spec = make_scene(scene, seed, settings, objects)
     report = RunReport(scene={"name": spec.name, "seed": seed, "objects": len(spec.objects)},
                        settings=settings.as_dict())
     system = build_system(spec, settings)
     recorders = None
     try:
-        recorders = _recorders(system, out_dir, video, report, settings)
+        recorders = _recorders(system, out_dir, video, report, settings, rerun)
         if prepare is not None:  # after the built-in recorders: the pick evaluation comes first
             prepare(system)
         _stages(system, settings, report, recorders[0], select, scan, place,
@@ -202,11 +217,17 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
 
 def _close(system: System, report: RunReport, recorders) -> None:
     report.motion_plans = list(system.motion.plans)
-    snapshots, recorder = recorders if recorders is not None else (None, None)
-    if recorder is not None:
-        report.video = recorder.close()
-        if recorder.problem:
-            report.warnings.append(recorder.problem)
+    snapshots, recorder, recording = recorders if recorders is not None else (None, None, None)
+    for rec in (recorder, recording):
+        if rec is None:
+            continue
+        path = rec.close()
+        if rec is recorder:
+            report.video = path
+        else:
+            report.recording = path
+        if rec.problem:
+            report.warnings.append(rec.problem)
     if snapshots is not None:
         report.warnings.extend(snapshots.problems)
     report.warnings.extend(system.events.failures)

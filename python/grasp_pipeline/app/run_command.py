@@ -107,7 +107,8 @@ def run_command(args, scene: str | None = None) -> int:
         report = run_pipeline(scene=scene or args.scene, seed=args.seed, select=select, out_dir=out,
                               json_path=json_path, settings=settings, video=not args.no_video,
                               scan=not args.no_scan, objects=getattr(args, "objects", "builtin"),
-                              declutter=getattr(args, "declutter", False))
+                              declutter=getattr(args, "declutter", False),
+                              rerun=getattr(args, "rerun", None))
     data = to_jsonable(report)
     print(summarize(data))
     print(f"report: {json_path}")
@@ -116,6 +117,8 @@ def run_command(args, scene: str | None = None) -> int:
             print(f"{label}: {data[key]['snapshot']}")
     if data.get("video"):
         print(f"video: {data['video']}")
+    if data.get("recording"):
+        print(f"Rerun recording: {data['recording']} (open with: rerun {data['recording']})")
     if report.status == "interrupted":
         return 130
     return 0 if report.all_picked else 1

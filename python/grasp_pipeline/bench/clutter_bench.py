@@ -155,14 +155,18 @@ ROUND_JOBS = JobSpec(run_fn=_run_task, failed_fn=_failed_round, postfix_fn=_post
 
 
 def _tasks(protocol: str, objects: str, rounds: int, seeds: list[int], out: Path,
-           overrides: tuple) -> list[tuple]:
+           overrides: tuple, rerun_dir: Optional[Path] = None) -> list[tuple]:
+    """One task per round; ``recording``: the round's ``.rrd`` in ``rerun_dir`` (named like
+    its folder) or None."""
     tasks, index = [], 0
     for s in seeds:
         for i in range(rounds):
             seed = scene_seed(s, i)
+            name = f"seed_{s}_round_{i:03d}_scene_{seed}"
             task = {"index": index, "bench_seed": int(s), "round": i, "seed": seed,
                     "protocol": protocol, "objects": str(objects), "overrides": overrides,
-                    "out_dir": str(out / "rounds" / f"seed_{s}_round_{i:03d}_scene_{seed}")}
+                    "out_dir": str(out / "rounds" / name),
+                    "recording": None if rerun_dir is None else str(Path(rerun_dir) / f"{name}.rrd")}
             tasks.append((index, task))
             index += 1
     return tasks
@@ -186,15 +190,22 @@ def run_clutter_benchmark(protocol: str = "packed", objects: str = "builtin", ro
                           seeds: tuple = (0,), workers: int = 1, json_path=None,
                           out_dir: str | Path = "out/bench_clutter", progress: bool = True,
                           round_timeout_s: float = 3600.0, overrides: tuple = (None, ()),
-                          backend: str = "local", address: Optional[str] = None) -> dict:
+                          backend: str = "local", address: Optional[str] = None,
+                          rerun_dir: str | Path | None = None) -> dict:
     """Run the benchmark; write the JSON (``json_path``), ``OUT/summary.md`` and plots.
-    ``backend``: ``"local"`` (spawned processes) or ``"ray"`` (``address``: a cluster's)."""
+    ``backend``: ``"local"`` (spawned processes) or ``"ray"`` (``address``: a cluster's);
+    ``rerun_dir``: also one Rerun recording per round there (``<round folder name>.rrd``)."""
     seeds = [int(s) for s in seeds]
     _check_inputs(protocol, objects, rounds, seeds, workers, overrides)
     out = check_writable_dir(Path(out_dir), "output folder (--out)")
     if json_path is not None:
         check_writable(json_path, "benchmark JSON (--json)")
-    tasks = _tasks(protocol, objects, rounds, seeds, out, overrides)
+    if rerun_dir is not None:
+        from ..report.rerun_recorder import import_rerun
+
+        import_rerun()
+        rerun_dir = check_writable_dir(Path(rerun_dir), "Rerun recordings folder (--rerun)")
+    tasks = _tasks(protocol, objects, rounds, seeds, out, overrides, rerun_dir)
     t0 = time.perf_counter()
     with sigterm_as_interrupt():
         rows, interrupted = run_jobs(tasks, ROUND_JOBS, min(workers, len(tasks)), round_timeout_s,

@@ -132,7 +132,7 @@ def round_record(task: dict, spec, report: Optional[dict], obs: Optional[_Observ
 
 def run_round(task: dict) -> dict:
     """Run one round in this process (``task``: index, bench_seed, seed, protocol, objects,
-    out_dir, overrides); never raises."""
+    out_dir, overrides, recording: a ``.rrd`` path or None); never raises."""
     from ..app.run import run_pipeline
 
     t0 = time.perf_counter()
@@ -144,7 +144,8 @@ def run_round(task: dict) -> dict:
         out = Path(task["out_dir"])
         obs = _Observers(out, settings.scene_filter.band)
         report = run_pipeline(scene=spec, seed=task["seed"], out_dir=out, json_path=out / "report.json",
-                              settings=settings, video=False, declutter=True, prepare=obs).to_dict()
+                              settings=settings, video=False, declutter=True, prepare=obs,
+                              rerun=task.get("recording")).to_dict()
     except Exception as exc:  # any failure of the round is a result, not a crash
         error = f"{type(exc).__name__}: {exc}"
         log.error("round %d (seed %d) raised %s\n%s", task["index"], task["seed"], error,

@@ -14,8 +14,8 @@ composition root (``grasp_pipeline.app``) builds the parts; this is the public A
 """
 
 from .config import GraspConfig, ScanConfig
-from .events import (EventBus, FrameEvent, PerceptionEvent, PickEvent, PlanEvent, StageEvent,
-                     Tick)
+from .events import (EventBus, FrameEvent, GraspEvent, PerceptionEvent, PickEvent, PlanEvent,
+                     StageEvent, Tick)
 from .grasp_action import GraspAction, GraspStage
 from .grasp_source import FixedGraspSource, GeometricGraspSource, GraspRequest, GraspSource
 from .motion_client import MotionClient
@@ -28,7 +28,7 @@ from .targets import default_targets
 
 __all__ = [
     "ActiveScan", "EventBus", "FixedGraspSource", "FrameEvent", "GeometricGraspSource",
-    "GraspAction", "GraspConfig", "GraspRequest", "GraspSource", "GraspStage", "MotionClient",
+    "GraspAction", "GraspConfig", "GraspEvent", "GraspRequest", "GraspSource", "GraspStage", "MotionClient",
     "PerceptionEvent", "PerceptionLoop", "PickContext", "PickEvent", "PlanEvent", "Runtime",
     "ScanConfig", "ScanStage", "SelectResult", "Selector", "StageEvent", "Task", "Tick",
     "default_targets", "pick_object",

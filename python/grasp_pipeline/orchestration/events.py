@@ -10,7 +10,8 @@ Event types (all frozen dataclasses, times in simulated seconds):
 * :class:`Tick` — after every control step (for recorders with a rate of their own);
 * :class:`FrameEvent` — a camera frame arrived (with the arm joints at capture);
 * :class:`PerceptionEvent` — perception processed a frame (the core's result, the tracks);
-* :class:`PlanEvent` — a motion was planned and is about to run;
+* :class:`PlanEvent` — a motion was planned and is about to run (with its trajectory);
+* :class:`GraspEvent` — the grasp action chose among the candidate grasps of one object;
 * :class:`StageEvent` — the run or an action entered a stage (``rough_view``, ``scan``,
   ``PRE_GRASP``, ...), with the perception state for recorders that draw it;
 * :class:`PickEvent` — one pick ended (its :class:`~grasp_pipeline.results.PickResult`).
@@ -55,6 +56,20 @@ class PlanEvent:
     planning_ms: float
     timing_ms: float
     duration_s: float
+    trajectory: Any = None           # the motion.trajectory.JointTrajectory about to run
+
+
+@dataclass(frozen=True)
+class GraspEvent:
+    """The candidates a grasp source proposed for one object (``_core.BestGrasp``: position =
+    contact point, R[:, 0] = approach, R[:, 2] = closing axis, ``width_m``), best first, and
+    the one whose motions could be planned (``chosen``: its index; None when none could)."""
+
+    time_s: float
+    candidates: tuple = ()
+    chosen: Optional[int] = None
+    T_grasp: Optional[np.ndarray] = None   # TCP pose at the chosen grasp (4x4), back-off included
+    backoff_m: float = 0.0
 
 
 @dataclass(frozen=True)

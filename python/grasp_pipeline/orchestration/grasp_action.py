@@ -15,7 +15,8 @@ with "no best grasp yet" when there is none). The action never learns who produc
 - PLACE (:mod:`.place`): carry to a tray slot, lower, open, go up, back to the start joints;
   a drop while carrying fails PLACE.
 Any stage failure: open, retreat upward, go home; the result says which stage failed and why.
-Each stage entry is published as a :class:`~.events.StageEvent`.
+Each stage entry is published as a :class:`~.events.StageEvent`; the candidates and the one
+chosen at PRE_GRASP as a :class:`~.events.GraspEvent`.
 """
 
 from __future__ import annotations
@@ -32,8 +33,8 @@ from ..robot.description import GRIPPER_MAX_WIDTH_M
 from ..robot.protocols import ContactAllowance
 from ..results import GraspOutcome
 from .config import GraspConfig
-from .events import EventBus, StageEvent
-from .grasp_planning import PlannedGrasp, opening_for, plan_grasp
+from .events import EventBus, GraspEvent, StageEvent
+from .grasp_planning import NoReachableGrasp, PlannedGrasp, opening_for, plan_grasp
 from .gripper_moves import ObjectDropped, StageFailure, close_until_stall, wait_gap, watch_held
 from .place import place_in_tray, recover
 from .runtime import Runtime, Task
@@ -161,8 +162,7 @@ class GraspAction:
         cfg, robot, motion = self.config, self.robot, self.motion
         target_tid, scene = self._set_scene(candidates[0])
         self._enter(out, GraspStage.PRE_GRASP)
-        plan: PlannedGrasp = plan_grasp(motion, candidates, cfg, robot.tcp_pose(), robot.finger_gap_m,
-                                        GRIPPER_MAX_WIDTH_M)
+        plan = self._plan(candidates)
         self.backoff_m = plan.backoff_m
         plane = self.loop.plane
         self.tcp_height_m = None if plane is None else \
@@ -189,6 +189,22 @@ class GraspAction:
         yield from self.carrying(motion.line(T_lift, kind="lift", allow_target_contact=True,
                                              allowance=ContactAllowance.HELD_OBJECT), out, "LIFT")
         yield from self._hold_check(out)
+
+    def _plan(self, candidates: list) -> PlannedGrasp:
+        """:func:`plan_grasp` for the candidates; publishes a :class:`GraspEvent` (the chosen
+        candidate, or none when :class:`NoReachableGrasp` is raised)."""
+        robot = self.robot
+        try:
+            plan = plan_grasp(self.motion, candidates, self.config, robot.tcp_pose(),
+                              robot.finger_gap_m, GRIPPER_MAX_WIDTH_M)
+        except NoReachableGrasp:
+            if self.events.wants(GraspEvent):
+                self.events.publish(GraspEvent(float(robot.time_s), tuple(candidates)))
+            raise
+        if self.events.wants(GraspEvent):
+            self.events.publish(GraspEvent(float(robot.time_s), tuple(candidates), plan.index,
+                                           plan.T_grasp.copy(), plan.backoff_m))
+        return plan
 
     def carrying(self, motion_gen, out: GraspOutcome, stage: str):
         """Task: a motion with the object in hand, aborted when the object drops."""

@@ -79,7 +79,7 @@ class MotionClient:
                 "timing_ms": traj.timing_ms, "duration_s": traj.duration_s}
         self.plans.append(plan)
         if self.events.wants(PlanEvent):
-            self.events.publish(PlanEvent(float(self.world.time_s), **plan))
+            self.events.publish(PlanEvent(float(self.world.time_s), **plan, trajectory=traj))
         report: ExecutionReport = yield from self.executor.execute_steps(
             traj, allowance, release_contacts=release_contacts)
         self.q_cmd = traj.q[-1].copy()
