@@ -44,7 +44,7 @@ $(VENV)/bin/python:
 
 $(VENV)/.installed: $(VENV)/bin/python $(SOURCES)
 	@rm -f python/grasp_pipeline/_*.so  # a dev build (scripts/dev_build_core.sh) must not ship
-	$(PIP) install -q ".[test,meshes,ray]" $(QUIET_PIP)
+	$(PIP) install -q ".[test,meshes,ray,rerun]" $(QUIET_PIP)
 	@touch $@
 
 gtest: system-deps

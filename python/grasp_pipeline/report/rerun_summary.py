@@ -24,8 +24,9 @@ _BATCH_COMPONENTS = ("positions", "centers", "strips", "origins", "translation",
 @dataclass
 class EntitySummary:
     """One entity: ``logs`` (non-empty logs on the timeline; 1 for static data), ``static``,
-    ``largest`` and ``last`` batch sizes, ``archetypes`` (e.g. ``["Points3D"]``) and the
-    simulated times [s] of its non-empty logs."""
+    ``largest`` and ``last`` batch sizes, ``archetypes`` (e.g. ``["Points3D"]``), and per
+    non-empty log its simulated time [s] (``times_s``), batch size (``batches``) and, for
+    text logs, the text (``texts``)."""
 
     path: str
     archetypes: list = field(default_factory=list)
@@ -34,6 +35,8 @@ class EntitySummary:
     largest: int = 0
     last: int = 0
     times_s: list = field(default_factory=list)
+    batches: list = field(default_factory=list)
+    texts: list = field(default_factory=list)
 
 
 def _batch_column(components: list[str]) -> str:
@@ -65,8 +68,11 @@ def _summarize_entity(recording, path: str, components: list[str]) -> EntitySumm
             out.logs += 1
             out.largest = max(out.largest, n)
             out.last = n
+            out.batches.append(n)
             if t is not None:
                 out.times_s.append(float(t) * 1e-9)
+            if col.endswith(":text"):
+                out.texts.append(value[0] if isinstance(value, list) else value)
     return out
 
 
