@@ -15,7 +15,7 @@ import pytest
 from grasp_pipeline.bench import clutter_bench as cb
 
 EXE = Path(sys.executable).parent / "grasp-pipeline"
-SMALL = {"packed": ["--set", "clutter.objects_per_scene=2"],
+SMALL = {"packed": ["--set", "clutter.objects_per_scene=2", "--rerun", "recs"],  # + a recording per round
          "pile": ["--set", "clutter.objects_per_scene=2"],
          "sparse": ["--set", "sim.object_count=[2,2]"]}
 REQUIRED = ("protocol", "rounds", "objects_placed", "attempts", "successes", "gsr", "dr", "seeds",
@@ -113,3 +113,17 @@ def test_bad_protocol_and_object_folder_are_refused_before_any_round(tmp_path):
     with pytest.raises(MeshError):
         cb.run_clutter_benchmark(protocol="packed", objects=str(tmp_path / "nowhere"), rounds=1,
                                  out_dir=tmp_path)
+
+
+def test_rerun_writes_one_readable_recording_per_round(runs):
+    from grasp_pipeline.report.rerun_summary import summarize_recording
+
+    d, rc, _, stderr = runs["packed"]
+    assert rc == 0, stderr[-3000:]
+    row = _strict(d / "b.json")["round_rows"][0]
+    name = f"seed_5_round_000_scene_{row['seed']}.rrd"
+    assert row["recording"] == str(Path("recs") / name)
+    assert sorted(p.name for p in (d / "recs").iterdir()) == [name]
+    s = summarize_recording(d / "recs" / name)
+    assert s["/timeline/picks"].logs == len(row["attempts"])
+    assert "scan_done" in s["/timeline/stages"].texts and s["/world/camera"].logs >= 3
