@@ -142,14 +142,19 @@ def log_text(rr, rec, entity: str, text: str, level: str = "INFO") -> None:
     rec.log(entity, rr.TextLog(text, level=level))
 
 
-def default_blueprint(rrb: Any):
-    """The viewer's layout: the 3-D world (left), the camera, the series and the timeline's
-    text logs (right)."""
+def default_blueprint(rrb: Any, time_s: float | None = None):
+    """The viewer's layout: the 3-D world (left; the depth image is left out there, the
+    perceived cloud is what it shows), the camera's RGB and depth, the series and the
+    timeline's text logs (right); the time cursor at ``time_s`` when given."""
+    camera = rrb.Horizontal(
+        rrb.Spatial2DView(origin=CAMERA_IMAGE, contents=["$origin", CAMERA_RGB], name="camera RGB"),
+        rrb.Spatial2DView(origin=CAMERA_IMAGE, contents=["$origin", CAMERA_DEPTH], name="depth"))
     return rrb.Blueprint(
         rrb.Horizontal(
-            rrb.Spatial3DView(origin=WORLD, name="world"),
-            rrb.Vertical(rrb.Spatial2DView(origin=CAMERA_IMAGE, name="camera"),
+            rrb.Spatial3DView(origin=WORLD, contents=["$origin/**", f"- {CAMERA_DEPTH}"], name="world"),
+            rrb.Vertical(camera,
                          rrb.TimeSeriesView(origin="plots", name="finger gap, perception time"),
                          rrb.TextLogView(origin="timeline", name="stages, plans, picks")),
             column_shares=[3, 2]),
-        collapse_panels=False)
+        rrb.BlueprintPanel(state="collapsed"), rrb.SelectionPanel(state="collapsed"),
+        rrb.TimePanel(timeline="sim_time", duration_cursor=time_s))

@@ -1,7 +1,7 @@
 """What a Rerun recording holds, read back with Rerun's own reader (``rerun.dataframe``).
 
 :func:`summarize_recording` lists every entity of an ``.rrd`` file with how many times it
-was logged on the ``sim_time`` timeline (static entities: once), the largest batch of one
+was logged (static entities: once; samples sent as columns: one per simulated time), the largest batch of one
 log (points of a cloud, boxes of a frame, strips of a path) and the batch of its last log.
 Tests use it to check a recording; it also answers "what is in this file" without a viewer.
 Entities that only hold ``Clear`` logs are left out (the dataframe reader returns no rows for
@@ -17,6 +17,8 @@ from pathlib import Path
 from .rerun_recorder import TIMELINE, import_rerun
 
 #: Components that carry an entity's batch (the first one present counts).
+#: Rerun's own sequence timeline: one value per log call.
+LOG_TICK = "log_tick"
 _BATCH_COMPONENTS = ("positions", "centers", "strips", "origins", "translation", "scalars", "text",
                      "blob", "buffer", "image_from_camera", "xyz")
 
@@ -52,10 +54,14 @@ def _summarize_entity(recording, path: str, components: list[str]) -> EntitySumm
     out = EntitySummary(path, sorted({c.split(":")[0] for c in components}))
     with warnings.catch_warnings():  # "static data only" is an answer here, not a problem
         warnings.simplefilter("ignore")
-        view = recording.view(index=TIMELINE, contents=path)
-        table = view.select().read_all()
+        # one row per log call (several logs at one simulated time stay apart); data sent
+        # as columns has no log tick: one row per simulated time then
+        table = recording.view(index=LOG_TICK, contents=path).select().read_all()
         if table.num_rows == 0:
-            table, out.static = view.select_static().read_all(), True
+            view = recording.view(index=TIMELINE, contents=path)
+            table = view.select().read_all()
+            if table.num_rows == 0:
+                table, out.static = view.select_static().read_all(), True
     name = f"{path}:{col}"
     if name not in table.column_names:
         return out

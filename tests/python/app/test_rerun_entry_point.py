@@ -81,7 +81,11 @@ def test_stages_plans_and_grasps_are_on_the_timeline(one_object_run):
     texts = s["/timeline/stages"].texts
     for name in ("rough_view_done", "scan_done", "PRE_GRASP"):
         assert name in texts
-    assert any(t.startswith("probe_arrived") for t in texts)
+    probes = [t for t in texts if t.startswith("probe_arrived")]
+    assert len(probes) >= len(report["scan"]["probes"]) >= 1
+    # every stage event is a log: the two views, and per started pick its start and stages
+    started = [p for p in report["picks"] if p["stages"]]
+    assert len(texts) - len(probes) == 2 + sum(1 + len(p["stages"]) for p in started)
     plans = len(report["motion_plans"])
     assert plans >= 5 and s["/timeline/plans"].logs == s["/world/paths/planned"].logs == plans
     reached = sum(any(st[0] == "PRE_GRASP" for st in p["stages"]) for p in report["picks"])
