@@ -1,0 +1,93 @@
+"""A perceived object's attributes, as the resolver compares them: colour, shape, size,
+position, distance.
+
+Everything comes from perception — the tracker's smoothed box and what the camera saw of the
+track (:class:`~.observations.ObservationRecorder`) — never from the simulator's ground truth.
+Distances are horizontal, from the **robot base** (the world origin of the robot description).
+Sizes are relative to the objects seen (:func:`relative_sizes`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Mapping, Optional, Sequence
+
+import numpy as np
+
+from .colours import colour_name, object_colour
+from .config import LanguageConfig
+from .shapes import shape_word
+
+#: Colour of an object of which no colour was seen (it matches no colour word).
+UNKNOWN_COLOUR = "unknown"
+
+
+@dataclass(frozen=True)
+class PerceivedObject:
+    """One perceived object: its track id, words and measurements."""
+
+    tid: int
+    colour: str                        # a colour name, or "unknown"
+    shape: str                         # box, cylinder, mug, bottle, other
+    center_m: tuple[float, float, float]
+    extents_m: tuple[float, float, float]   # (width, perp_width, height) of the perceived box
+    distance_m: float                  # horizontal distance from the robot base
+    rgb: Optional[tuple[float, float, float]] = None   # perceived sRGB 0..1
+
+    @property
+    def height_m(self) -> float:
+        return float(self.extents_m[2])
+
+    @property
+    def volume_m3(self) -> float:
+        return float(np.prod(self.extents_m))
+
+    @property
+    def xy(self) -> tuple[float, float]:
+        return float(self.center_m[0]), float(self.center_m[1])
+
+
+def perceived_object(tid: int, center, R_box, extents, points: Optional[np.ndarray],
+                     colours: Optional[np.ndarray], config: LanguageConfig | None = None,
+                     base_xy: Sequence[float] = (0.0, 0.0)) -> PerceivedObject:
+    """The attributes of one object from its box and what was seen of it."""
+    cfg = config or LanguageConfig()
+    rgb = None
+    colour = UNKNOWN_COLOUR
+    if colours is not None and len(colours):
+        rgb = tuple(float(v) for v in object_colour(colours, cfg))
+        colour = colour_name(rgb, cfg)
+    shape = "other" if points is None or len(points) < 3 else shape_word(points, center, R_box, extents, cfg)
+    c = tuple(float(v) for v in center)
+    return PerceivedObject(tid=int(tid), colour=colour, shape=shape, center_m=c,
+                           extents_m=tuple(float(v) for v in extents),
+                           distance_m=float(np.hypot(c[0] - base_xy[0], c[1] - base_xy[1])), rgb=rgb)
+
+
+def perceive_objects(tracks, observations, config: LanguageConfig | None = None,
+                     base_xy: Sequence[float] = (0.0, 0.0)) -> list[PerceivedObject]:
+    """Attributes of every track (``observations``: an ObservationRecorder or None)."""
+    out = []
+    for t in tracks:
+        e = t.smoothed
+        obs = None if observations is None else observations.tracks.get(int(t.tid))
+        out.append(perceived_object(int(t.tid), e.center, e.R_box, e.extents,
+                                    None if obs is None else obs.points,
+                                    None if obs is None else obs.colour_samples(), config, base_xy))
+    return out
+
+
+def relative_sizes(objects: Sequence[PerceivedObject],
+                   config: LanguageConfig | None = None) -> Mapping[int, str]:
+    """tid → "small", "large" or "" : the volume of the perceived box against the median
+    volume of the objects seen (``size_small_ratio_max`` / ``size_large_ratio_min``)."""
+    cfg = config or LanguageConfig()
+    if not objects:
+        return {}
+    median = float(np.median([o.volume_m3 for o in objects]))
+    out = {}
+    for o in objects:
+        ratio = o.volume_m3 / median if median > 0 else 1.0
+        out[o.tid] = ("small" if ratio <= cfg.size_small_ratio_max
+                      else "large" if ratio >= cfg.size_large_ratio_min else "")
+    return out
