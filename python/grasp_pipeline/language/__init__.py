@@ -9,12 +9,14 @@ from .attributes import PerceivedObject, perceive_objects, perceived_object, rel
 from .colours import colour_name, object_colour
 from .config import LanguageConfig
 from .exceptions import (AmbiguousDescriptionError, DescriptionError, LanguageError, NoMatchError,
-                         UnknownWordError)
+                         SameObjectError, UnknownWordError)
 from .observations import ObservationRecorder
 from .parse import Wanted, parse
+from .picks import resolve_picks
 from .resolver import describe, resolve
 
 __all__ = ["AmbiguousDescriptionError", "DescriptionError", "LanguageConfig", "LanguageError",
-           "NoMatchError", "ObservationRecorder", "PerceivedObject", "UnknownWordError", "Wanted",
+           "NoMatchError", "ObservationRecorder", "PerceivedObject", "SameObjectError",
+           "UnknownWordError", "Wanted",
            "colour_name", "describe", "object_colour", "parse", "perceive_objects",
-           "perceived_object", "relative_sizes", "resolve"]
+           "perceived_object", "relative_sizes", "resolve", "resolve_picks"]

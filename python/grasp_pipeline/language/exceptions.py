@@ -24,3 +24,7 @@ class NoMatchError(LanguageError):
 
 class AmbiguousDescriptionError(LanguageError):
     """More than one perceived object fits the description (the message lists them)."""
+
+
+class SameObjectError(LanguageError):
+    """Two descriptions of one run name the same perceived object (it can be picked once)."""
