@@ -64,17 +64,58 @@ def perceived_object(tid: int, center, R_box, extents, points: Optional[np.ndarr
                            distance_m=float(np.hypot(c[0] - base_xy[0], c[1] - base_xy[1])), rgb=rgb)
 
 
+def _inside(xy: np.ndarray, track, margin_m: float) -> bool:
+    """True when ``xy`` lies within the track's box footprint (grown by ``margin_m``)."""
+    e = track.smoothed
+    d = (np.asarray(xy, float) - np.asarray(e.center, float)[:2]) @ np.asarray(e.R_box, float)[:2, :2]
+    return bool(np.all(np.abs(d) <= np.asarray(e.extents, float)[:2] / 2 + margin_m))
+
+
+def _area(track) -> float:
+    return float(np.prod(np.asarray(track.smoothed.extents, float)[:2]))
+
+
+def stacked_groups(tracks, margin_m: float) -> list[list]:
+    """Tracks grouped as one object when one's centre lies in another's footprint: perception
+    may keep two tracks of one object seen in two parts (a bottle's neck above its body —
+    a depth step of more than the clustering distance — or a mug's inside). Each group is
+    led by its track of the largest footprint."""
+    order = sorted(tracks, key=_area, reverse=True)
+    groups: list[list] = []
+    for t in order:
+        c = np.asarray(t.smoothed.center, float)[:2]
+        home = next((g for g in groups if _inside(c, g[0], margin_m)), None)
+        if home is None:
+            groups.append([t])
+        else:
+            home.append(t)
+    return groups
+
+
+def _merged(group, observations):
+    """(centre, R_box, extents, points, colours) of one group (its leader's box, the tallest
+    height, every member's points and colours)."""
+    lead = group[0].smoothed
+    extents = np.asarray(lead.extents, float).copy()
+    extents[2] = max(float(t.smoothed.extents[2]) for t in group)
+    obs = [observations.tracks.get(int(t.tid)) for t in group] if observations is not None else []
+    obs = [o for o in obs if o is not None]
+    points = np.concatenate([o.points for o in obs]) if obs else None
+    colours = np.concatenate([o.colour_samples() for o in obs]) if obs else None
+    return lead.center, lead.R_box, extents, points, colours
+
+
 def perceive_objects(tracks, observations, config: LanguageConfig | None = None,
                      base_xy: Sequence[float] = (0.0, 0.0)) -> list[PerceivedObject]:
-    """Attributes of every track (``observations``: an ObservationRecorder or None)."""
+    """Attributes of every perceived object (``observations``: an ObservationRecorder or
+    None); tracks of one object seen in parts are merged first (:func:`stacked_groups`), the
+    object keeps its largest track's id."""
+    cfg = config or LanguageConfig()
     out = []
-    for t in tracks:
-        e = t.smoothed
-        obs = None if observations is None else observations.tracks.get(int(t.tid))
-        out.append(perceived_object(int(t.tid), e.center, e.R_box, e.extents,
-                                    None if obs is None else obs.points,
-                                    None if obs is None else obs.colour_samples(), config, base_xy))
-    return out
+    for group in stacked_groups(list(tracks), cfg.shape_cell_m):
+        center, R, extents, points, colours = _merged(group, observations)
+        out.append(perceived_object(int(group[0].tid), center, R, extents, points, colours, cfg, base_xy))
+    return sorted(out, key=lambda o: o.tid)
 
 
 def relative_sizes(objects: Sequence[PerceivedObject],
