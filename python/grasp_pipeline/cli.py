@@ -191,7 +191,7 @@ def _add_pick_options(p: argparse.ArgumentParser, out: str) -> None:
     p.add_argument("--json", type=Path, default=None, help="report path (default OUT/report.json)")
     p.add_argument("--no-video", action="store_true", help="skip the MP4")
     p.add_argument("--no-scan", action="store_true", help="pick from the rough (oblique) view")
-    _add_config_options(p, "scene_filter, obb, camera, sim, clutter, motion, scan, grasp, video",
+    _add_config_options(p, "scene_filter, obb, camera, sim, clutter, motion, scan, grasp, video, language",
                         "grasp.lift_height_m=0.12")
 
 

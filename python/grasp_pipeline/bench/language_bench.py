@@ -14,6 +14,7 @@ True objects no track is matched to count as ``missed``.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import sys
 import time
@@ -56,14 +57,15 @@ def scene_rows(scene: str, seed: int, settings) -> list[dict]:
     rows = []
     for o in spec.objects:
         t = truths[o.name]
-        row = {"scene": scene, "seed": seed, "object": o.name, "category": o.category,
+        row = {"scene": scene, "seed": seed, "object": o.name, "category": o.category or o.kind,
                "true_colour": colour_name(o.rgba[:3], settings.language),
-               "true_shape": TRUE_SHAPE.get(o.category, "other"), "colour": "missed",
+               "true_shape": TRUE_SHAPE.get(o.category or o.kind, "other"), "colour": "missed",
                "shape": "missed", "tid": None}
         d = [np.hypot(*(np.asarray(p.center_m[:2]) - t.position_m[:2])) for p in objects]
         if d and min(d) < 0.5 * min(t.size_m[:2]) + 0.02:
             p = objects[int(np.argmin(d))]
-            row.update(colour=p.colour, shape=p.shape, tid=p.tid)
+            row.update(colour=p.colour, shape=p.shape, tid=p.tid, rgb=p.rgb,
+                       features=None if p.features is None else dataclasses.asdict(p.features))
         rows.append(row)
     return rows
 

@@ -16,7 +16,7 @@ import numpy as np
 
 from .colours import colour_name, object_colour
 from .config import LanguageConfig
-from .shapes import shape_word
+from .shapes import ShapeFeatures, classify, shape_features
 
 #: Colour of an object of which no colour was seen (it matches no colour word).
 UNKNOWN_COLOUR = "unknown"
@@ -33,6 +33,7 @@ class PerceivedObject:
     extents_m: tuple[float, float, float]   # (width, perp_width, height) of the perceived box
     distance_m: float                  # horizontal distance from the robot base
     rgb: Optional[tuple[float, float, float]] = None   # perceived sRGB 0..1
+    features: Optional[ShapeFeatures] = None           # what the shape word was decided from
 
     @property
     def height_m(self) -> float:
@@ -57,11 +58,14 @@ def perceived_object(tid: int, center, R_box, extents, points: Optional[np.ndarr
     if colours is not None and len(colours):
         rgb = tuple(float(v) for v in object_colour(colours, cfg))
         colour = colour_name(rgb, cfg)
-    shape = "other" if points is None or len(points) < 3 else shape_word(points, center, R_box, extents, cfg)
+    features = None if points is None or len(points) < 3 else \
+        shape_features(points, center, R_box, extents, cfg)
+    shape = "other" if features is None else classify(features, cfg)
     c = tuple(float(v) for v in center)
     return PerceivedObject(tid=int(tid), colour=colour, shape=shape, center_m=c,
                            extents_m=tuple(float(v) for v in extents),
-                           distance_m=float(np.hypot(c[0] - base_xy[0], c[1] - base_xy[1])), rgb=rgb)
+                           distance_m=float(np.hypot(c[0] - base_xy[0], c[1] - base_xy[1])), rgb=rgb,
+                           features=features)
 
 
 def _inside(xy: np.ndarray, track, margin_m: float) -> bool:
