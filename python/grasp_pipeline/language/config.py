@@ -48,12 +48,12 @@ class LanguageConfig:
     shape_top_band_m: float = 0.008
     shape_rect_fill_min: float = 0.88
     shape_round_fill_max: float = 0.86
-    shape_round_aspect_min: float = 0.8
+    shape_round_aspect_min: float = 0.93
     shape_round_corner_max: float = 1.15
     shape_flat_top_min: float = 0.6
     shape_hollow_drop_min: float = 0.3
     shape_mug_height_ratio_min: float = 0.8
-    shape_bottle_top_max: float = 0.35
+    shape_bottle_top_max: float = 0.5
     shape_bottle_height_ratio_min: float = 1.5
     shape_max_points: int = 20000
     shape_voxel_m: float = 0.002
