@@ -23,10 +23,12 @@ from .config import LanguageConfig
 
 @dataclass
 class TrackObservation:
-    """Colour samples (N, 3) uint8 and world points (M, 3) of one track."""
+    """Colour samples (N, 3) uint8 and world points (M, 3) of one track; ``keys`` are the
+    points' voxel keys (sorted; the points in the same order)."""
 
     colours: list = field(default_factory=list)
     points: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    keys: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
     frames: int = 0
 
     def colour_samples(self) -> np.ndarray:
@@ -60,11 +62,13 @@ class ObservationRecorder:
             return  # not the frame this result belongs to
         raw = res.raw
         labels = np.asarray(res.labels)
+        rows = np.flatnonzero(labels >= 0)          # object rows only (a small part of a frame)
+        row_labels = labels[rows]
         rgb = None if frame.rgb is None else np.asarray(frame.rgb).reshape(-1, 3)
         for label, tid in zip(raw.estimate_labels, raw.tids):
-            rows = np.flatnonzero(labels == label)
-            if len(rows):
-                self._add(int(tid), rows, res.points, rgb)
+            mine = rows[row_labels == label]
+            if len(mine):
+                self._add(int(tid), mine, res.points, rgb)
 
     def _add(self, tid: int, rows: np.ndarray, points: np.ndarray, rgb) -> None:
         cfg = self.config
@@ -74,17 +78,34 @@ class ObservationRecorder:
             pick = rows if len(rows) <= cfg.colour_samples_per_frame else \
                 self._rng.choice(rows, cfg.colour_samples_per_frame, replace=False)
             obs.colours.append(rgb[pick].copy())
-        union = np.concatenate([obs.points, np.asarray(points[rows], float)])
-        obs.points = thin(union, cfg.shape_voxel_m, cfg.shape_max_points, self._rng)
+        add_points(obs, np.asarray(points[rows], float), cfg.shape_voxel_m, cfg.shape_max_points,
+                   self._rng)
 
 
-def thin(points: np.ndarray, voxel_m: float, max_points: int, rng: np.random.Generator) -> np.ndarray:
-    """One point per ``voxel_m`` voxel (the first), then at most ``max_points`` at random."""
-    if len(points) == 0:
-        return points
-    keys = np.floor(points / voxel_m).astype(np.int64)
-    _, first = np.unique(keys, axis=0, return_index=True)
-    kept = points[np.sort(first)]
-    if len(kept) > max_points:
-        kept = kept[np.sort(rng.choice(len(kept), max_points, replace=False))]
-    return kept
+#: Voxel indices are packed into one int64 key: 21 bits per axis (about ±2 km at 2 mm).
+_KEY_BITS = 21
+_KEY_OFFSET = 1 << (_KEY_BITS - 1)
+
+
+def voxel_keys(points: np.ndarray, voxel_m: float) -> np.ndarray:
+    """One int64 per point: its ``voxel_m`` voxel's indices packed together."""
+    k = np.floor(points / voxel_m).astype(np.int64) + _KEY_OFFSET
+    return (k[:, 0] << (2 * _KEY_BITS)) | (k[:, 1] << _KEY_BITS) | k[:, 2]
+
+
+def add_points(obs: TrackObservation, new: np.ndarray, voxel_m: float, max_points: int,
+               rng: np.random.Generator) -> None:
+    """Add the points of voxels not yet held (one point per voxel), then keep at most
+    ``max_points`` at random. Incremental: sorting only the new points' keys."""
+    if len(new) == 0:
+        return
+    keys, first = np.unique(voxel_keys(new, voxel_m), return_index=True)
+    pos = np.searchsorted(obs.keys, keys)
+    held = np.zeros(len(keys), bool)
+    inside = pos < len(obs.keys)
+    held[inside] = obs.keys[pos[inside]] == keys[inside]
+    obs.keys = np.insert(obs.keys, pos[~held], keys[~held])
+    obs.points = np.insert(obs.points, pos[~held], new[first[~held]], axis=0)
+    if len(obs.keys) > max_points:
+        keep = np.sort(rng.choice(len(obs.keys), max_points, replace=False))
+        obs.keys, obs.points = obs.keys[keep], obs.points[keep]

@@ -5,7 +5,7 @@ from types import SimpleNamespace as NS
 import numpy as np
 
 from grasp_pipeline.language import LanguageConfig, ObservationRecorder
-from grasp_pipeline.language.observations import thin
+from grasp_pipeline.language.observations import TrackObservation, add_points
 from grasp_pipeline.orchestration.events import EventBus, FrameEvent, PerceptionEvent
 
 
@@ -60,6 +60,13 @@ def test_colour_samples_per_frame_are_capped_and_points_thinned():
     assert rec.tracks == {}
 
 
-def test_thin_keeps_at_most_max_points():
-    pts = np.random.default_rng(1).uniform(0, 1, (500, 3))
-    assert len(thin(pts, 1e-6, 100, np.random.default_rng(0))) == 100
+def test_points_are_kept_once_per_voxel_and_capped():
+    rng = np.random.default_rng(1)
+    obs = TrackObservation()
+    a = np.array([[0.0011, 0.0, 0.0], [0.0031, 0.0, 0.0]])
+    add_points(obs, a, 0.002, 100, rng)
+    add_points(obs, np.array([[0.0019, 0.0001, 0.0], [0.0051, 0.0, 0.0]]), 0.002, 100, rng)
+    np.testing.assert_allclose(np.sort(obs.points[:, 0]), [0.0011, 0.0031, 0.0051])  # first per voxel
+    assert np.all(np.diff(obs.keys) > 0) and len(obs.keys) == len(obs.points)
+    add_points(obs, rng.uniform(0, 1, (500, 3)), 0.002, 100, rng)
+    assert len(obs.points) == 100 and len(obs.keys) == 100
