@@ -21,6 +21,7 @@ from ..exceptions import GraspPipelineError
 from ..orchestration import (GeometricGraspSource, GraspSource, PickContext, StageEvent,
                              default_targets, pick_object)
 from ..orchestration.declutter import clear_table
+from ..orchestration.targets import rough_view_ids
 from ..orchestration.tracks import track_summary
 from ..report.serialize import check_writable, check_writable_dir, write_json
 from ..report.snapshot_recorder import SnapshotRecorder
@@ -114,9 +115,10 @@ def _stages(system: System, settings: Settings, report: RunReport, snapshots, se
         observations = ObservationRecorder(settings.language).attach(system.events)
     if not _rough_view(system, settings, report, snapshots):
         return
-    rough_tids = {int(t.tid) for t in system.loop.tracks()}
+    rough = {int(t.tid): tuple(t.smoothed.center[:2]) for t in system.loop.tracks()}
     if scan:
         _scan(system, settings, report, snapshots)
+    rough_tids = rough_view_ids(rough, system.loop.tracks(), settings.grasp.rough_takeover_m)
     if pick:
         select = _resolve_picks(system, settings, report, pick, observations)
     t0, sim0 = time.perf_counter(), float(system.world.time_s)
