@@ -199,7 +199,8 @@ def _add_pick_options(p: argparse.ArgumentParser, out: str) -> None:
                    help="also write a Rerun recording of the run (3-D point cloud, boxes, grasps, "
                         "camera, TCP paths, stages, series on simulated time); open it with "
                         "'rerun PATH.rrd'. Needs pip install 'grasp-pipeline[rerun]'")
-    _add_config_options(p, "scene_filter, obb, camera, sim, clutter, motion, scan, grasp, video",
+    _add_config_options(p, "scene_filter, obb, camera, sim, clutter, motion, scan, grasp, video, "
+                        "language, rerun",
                         "grasp.lift_height_m=0.12")
 
 
@@ -220,6 +221,11 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--declutter", action="store_true",
                    help="clear the table one pick at a time, looking again after each attempt "
                         "(ends when nothing graspable is proposed or after 2 failures in a row)")
+    p.add_argument("--pick", action="append", default=None, metavar="DESCRIPTION",
+                   help='pick the object a short description names, after the scan (repeatable, '
+                        'in order): --pick "the red mug" --pick "the tallest box"; colour, shape '
+                        '(box, cylinder/can, mug, bottle, object) and size words (small, large, '
+                        'tallest, nearest); not with --select or --declutter')
     _add_pick_options(p, "out/run")
 
 

@@ -112,6 +112,21 @@ class PickResult:
 
 
 @dataclass
+class PickResolution:
+    """What one ``--pick`` description resolved to (the perceived object, in words)."""
+
+    description: str
+    tid: int
+    described: str        # "the red mug"
+    colour: str
+    shape: str
+    size: str             # small, large or "" (relative to the objects seen)
+    center: list          # perceived box centre [m]
+    extents: list         # (width, perp_width, height) [m]
+    distance_m: float     # horizontal, from the robot base
+
+
+@dataclass
 class RunReport:
     """The whole run; ``status`` says whether it completed, failed or was interrupted."""
 
@@ -131,6 +146,7 @@ class RunReport:
     timings: dict = field(default_factory=dict)
     extra: dict = field(default_factory=dict)
     end_reason: Optional[str] = None   # with --declutter: why the round of picks ended
+    resolved: list = field(default_factory=list)   # PickResolution of each --pick description
 
     @property
     def all_picked(self) -> bool:

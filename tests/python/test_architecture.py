@@ -13,7 +13,7 @@ import grasp_pipeline
 PKG = Path(grasp_pipeline.__file__).parent
 MAX_FUNCTION_LINES = 60
 #: Packages that talk to the robot only through grasp_pipeline.robot's protocols.
-SIM_FREE = ("motion", "perception", "orchestration", "robot")
+SIM_FREE = ("motion", "perception", "orchestration", "robot", "language")
 
 
 def _modules() -> dict[str, Path]:

@@ -21,6 +21,7 @@ from ..exceptions import GraspPipelineError
 from ..orchestration import (GeometricGraspSource, GraspSource, PickContext, StageEvent,
                              default_targets, pick_object)
 from ..orchestration.declutter import clear_table
+from ..orchestration.targets import rough_view_ids
 from ..orchestration.tracks import track_summary
 from ..report.serialize import check_writable, check_writable_dir, write_json
 from ..report.rerun_recorder import RerunRecorder, check_recording_path, import_rerun
@@ -80,6 +81,21 @@ def _scan(system: System, settings: Settings, report: RunReport, snapshots) -> N
         probes=[] if outcome is None else list(outcome.probes))
 
 
+def _resolve_picks(system: System, settings: Settings, report: RunReport, pick, observations) -> list:
+    """The (x, y) of the objects the ``--pick`` descriptions name, resolved against the
+    perceived tracks over the table top (not the tray's); a refusal raises a LanguageError."""
+    from ..language import perceive_objects, resolve_picks
+
+    margin = settings.grasp.target_fixture_margin_m
+    tracks = [t for t in system.loop.tracks()
+              if system.cell.pick_target_note(t.smoothed.center[:2], margin) is None]
+    objects = perceive_objects(tracks, observations, settings.language)
+    targets = resolve_picks(pick, objects, report.resolved, settings.language)
+    for r in report.resolved:
+        log.info("%r: #%d, %s at (%.3f, %.3f)", r.description, r.tid, r.described, *r.center[:2])
+    return targets
+
+
 def _targets(system: System, settings: Settings, report: RunReport, select, rough_tids) -> list:
     if select:
         return list(select)
@@ -91,12 +107,21 @@ def _targets(system: System, settings: Settings, report: RunReport, select, roug
 
 
 def _stages(system: System, settings: Settings, report: RunReport, snapshots, select,
-            scan: bool, place: bool, source: GraspSource, declutter: bool = False) -> None:
+            scan: bool, place: bool, source: GraspSource, declutter: bool = False,
+            pick: Sequence[str] = ()) -> None:
+    observations = None
+    if pick:
+        from ..language import ObservationRecorder
+
+        observations = ObservationRecorder(settings.language).attach(system.events)
     if not _rough_view(system, settings, report, snapshots):
         return
-    rough_tids = {int(t.tid) for t in system.loop.tracks()}
+    rough = {int(t.tid): tuple(t.smoothed.center[:2]) for t in system.loop.tracks()}
     if scan:
         _scan(system, settings, report, snapshots)
+    rough_tids = rough_view_ids(rough, system.loop.tracks(), settings.grasp.rough_takeover_m)
+    if pick:
+        select = _resolve_picks(system, settings, report, pick, observations)
     t0, sim0 = time.perf_counter(), float(system.world.time_s)
     ctx = PickContext(system.rt, system.loop, system.action, system.scanner if scan else None,
                       settings, source, place)
@@ -163,7 +188,7 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
                  scan: bool = True, grasp_source: Optional[GraspSource] = None,
                  prepare: Optional[Callable[[System], None]] = None,
                  objects: str = "builtin", declutter: bool = False,
-                 rerun: str | Path | None = None) -> RunReport:
+                 pick: Sequence[str] = (), rerun: str | Path | None = None) -> RunReport:
     """Run the whole pipeline headless; returns (and writes to ``json_path``) the report.
 
     ``scene``: ``"reference"``, ``"random"``/``"sparse"``, ``"packed"``, ``"pile"`` (with
@@ -175,6 +200,9 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
     ``declutter``: instead of picking every target of the first look, clear the table one
     pick at a time, looking again after each (:mod:`~grasp_pipeline.orchestration.declutter`;
     ignored with ``select``);
+    ``pick``: descriptions of the objects to pick, in order ("the red mug"), resolved against
+    the perceived objects after the scan (:mod:`grasp_pipeline.language`; instead of
+    ``select``); a refusal ends the run with status failed and the reason as its error;
     ``rerun``: also record the run into this ``.rrd`` file (:mod:`~grasp_pipeline.report.rerun_recorder`;
     the Rerun SDK is an optional extra, checked before the simulation starts)."""
     wall0 = time.perf_counter()
@@ -191,7 +219,7 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
         if prepare is not None:  # after the built-in recorders: the pick evaluation comes first
             prepare(system)
         _stages(system, settings, report, recorders[0], select, scan, place,
-                grasp_source or GeometricGraspSource(settings.grasp), declutter)
+                grasp_source or GeometricGraspSource(settings.grasp), declutter, pick)
         report.status = STATUS_FAILED if report.error else STATUS_COMPLETE
     except KeyboardInterrupt:
         system.world.hold()

@@ -10,6 +10,7 @@ from __future__ import annotations
 import logging
 import math
 import signal
+import sys
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -30,6 +31,25 @@ def parse_select(values) -> list[tuple[float, float]] | None:
     if bad:
         raise InputError(f"--select: coordinates must be finite numbers in metres, got {bad[0]}")
     return [(float(values[i]), float(values[i + 1])) for i in range(0, len(values), 2)]
+
+
+def parse_pick(values, select, declutter: bool, language_config=None) -> list[str]:
+    """``--pick DESCRIPTION`` (repeatable) → the descriptions; not with --select/--declutter.
+    Each is read now (unknown words are refused before the simulation starts); which object
+    it names is decided after the scan."""
+    if not values:
+        return []
+    if select is not None or declutter:
+        raise InputError("--pick names the objects to pick; it cannot be combined with "
+                         f"{'--select' if select is not None else '--declutter'} (use one of them)")
+    empty = [v for v in values if not v.strip()]
+    if empty:
+        raise InputError('--pick: an empty description; describe the object, e.g. --pick "the red mug"')
+    from ..language import parse
+
+    for v in values:
+        parse(v, language_config)
+    return [v.strip() for v in values]
 
 
 def _scan_lines(scan: dict) -> list[str]:
@@ -54,6 +74,9 @@ def summarize(report: dict) -> str:
         lines += _scan_lines(report["scan"])
     for s in report.get("targets_skipped", []):
         lines.append(f"not picked: track #{s['tid']} at ({s['center'][0]:.3f}, {s['center'][1]:.3f}): {s['why']}")
+    for r in report.get("resolved", []):
+        lines.append(f"{r['description']!r}: #{r['tid']}, {r['described']} at "
+                     f"({r['center'][0]:.3f}, {r['center'][1]:.3f})")
     for p in report.get("picks", []):
         status = "picked" if p["success"] else f"FAILED at {p['failed_stage']}"
         lines.append(f"pick ({p['anchor'][0]:.3f}, {p['anchor'][1]:.3f}): {status}; lifted "
@@ -101,13 +124,15 @@ def run_command(args, scene: str | None = None) -> int:
 
     select = parse_select(args.select)
     settings = load_settings(SECTIONS, args.config, args.sets)
+    pick = parse_pick(getattr(args, "pick", None), select, getattr(args, "declutter", False),
+                      settings.language)
     out = Path(args.out)
     json_path = args.json or out / "report.json"
     with sigterm_as_interrupt():
         report = run_pipeline(scene=scene or args.scene, seed=args.seed, select=select, out_dir=out,
                               json_path=json_path, settings=settings, video=not args.no_video,
                               scan=not args.no_scan, objects=getattr(args, "objects", "builtin"),
-                              declutter=getattr(args, "declutter", False),
+                              declutter=getattr(args, "declutter", False), pick=pick,
                               rerun=getattr(args, "rerun", None))
     data = to_jsonable(report)
     print(summarize(data))
@@ -121,4 +146,6 @@ def run_command(args, scene: str | None = None) -> int:
         print(f"Rerun recording: {data['recording']} (open with: rerun {data['recording']})")
     if report.status == "interrupted":
         return 130
+    if report.status == "failed" and report.error:
+        print(f"error: {report.error}", file=sys.stderr)
     return 0 if report.all_picked else 1

@@ -46,6 +46,7 @@ class GraspConfig:
     pre_grasp_distance_m: float = 0.12
     fragment_margin_m: float = 0.01
     target_fixture_margin_m: float = 0.03
+    rough_takeover_m: float = 0.02
     approach_backoffs_m: tuple[float, ...] = (0.0, 0.008, 0.015)
     open_margin_m: float = 0.02
     close_effort_N: float = 40.0

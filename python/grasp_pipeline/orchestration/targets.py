@@ -25,6 +25,25 @@ def _skip_reason(track, cell: WorkCell, fixture_margin_m: float, rough_tids: set
     return note
 
 
+def rough_view_ids(rough_centers: dict[int, tuple[float, float]], tracks,
+                   takeover_m: float) -> set[int]:
+    """The ids that count as "seen in the rough view" after the scan.
+
+    ``rough_centers``: track id -> (x, y) [m] of the rough view's tracks. A track born later
+    whose centre lies within ``takeover_m`` of a rough track that no longer exists took that
+    track's place (the tracker lost the object during the scan, e.g. half in view at a
+    neighbour's probe, and found it again under a new id): it is the same object and counts
+    as seen in the rough view."""
+    alive = {int(t.tid) for t in tracks}
+    ids = set(rough_centers) & alive
+    gone = [np.asarray(c, float) for tid, c in rough_centers.items() if tid not in alive]
+    for t in tracks:
+        c = np.asarray(t.smoothed.center[:2], float)
+        if int(t.tid) not in rough_centers and any(np.hypot(*(c - g)) <= takeover_m for g in gone):
+            ids.add(int(t.tid))
+    return ids
+
+
 def default_targets(tracks, cell: WorkCell, fixture_margin_m: float,
                     rough_tids: set) -> tuple[list[tuple[float, float]], list[dict]]:
     """(targets (x, y) nearest the base first, skipped tracks with ``tid``/``center``/``why``).
