@@ -37,6 +37,7 @@ SECTIONS: Mapping[str, tuple[str, str]] = MappingProxyType({
     "grasp": ("grasp_pipeline.orchestration.config", "GraspConfig"),
     "declutter": ("grasp_pipeline.orchestration.config", "DeclutterConfig"),
     "video": ("grasp_pipeline.report.config", "VideoConfig"),
+    "record": ("grasp_pipeline.dataset.config", "RecordConfig"),
 })
 
 
