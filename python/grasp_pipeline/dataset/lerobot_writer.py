@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 import logging
+import os
 from pathlib import Path
 
 from ..exceptions import GraspPipelineError
@@ -22,6 +23,8 @@ log = logging.getLogger(__name__)
 
 #: Our per-episode outcome file, inside the dataset's ``meta`` folder.
 OUTCOMES_FILE = "meta/grasp_pipeline_episodes.jsonl"
+#: SVT-AV1 (the AV1 encoder) logs a banner per video to stderr; errors only (1) unless set.
+SVT_LOG_LEVEL = "1"
 #: The LeRobot release this writer is written and tested against.
 LEROBOT_VERSION = "0.4.4"
 INSTALL_HINT = ("pip install 'grasp-pipeline[dataset]' (or, in a checkout: pip install '.[dataset]'); "
@@ -49,6 +52,7 @@ class LeRobotWriter:
 
     def __init__(self, root: Path, config: RecordConfig, depth: bool = False) -> None:
         LeRobotDataset = require_lerobot()
+        os.environ.setdefault("SVT_LOG", SVT_LOG_LEVEL)
         self.root, self.depth = Path(root), depth
         self.dataset = LeRobotDataset.create(
             repo_id=config.repo_id, fps=int(config.record_fps_hz), root=self.root,
@@ -60,7 +64,7 @@ class LeRobotWriter:
         """Append one episode (all its frames); ``extra``: outcome fields to list with it."""
         for i in range(episode.length):
             self.dataset.add_frame(frame_values(episode, i, self.depth))
-        self.dataset.save_episode()
+        self.dataset.save_episode(parallel_encoding=False)  # (one process: the workers use the cores)
         self.outcomes.append({"episode_index": len(self.outcomes), **episode.outcome(), **extra})
 
     def close(self) -> None:
