@@ -28,12 +28,13 @@ class RecordingViews:
 
         w, h = config.image_width_px, config.image_height_px
         self.depth, self.depth_max_m = depth, config.depth_max_m
+        look = {"shadows": config.render_shadows, "reflections": config.render_reflections}
         self.views = {}
-        self.views["wrist"] = SceneView(world, w, h, camera=CAMERA_NAME)
+        self.views["wrist"] = SceneView(world, w, h, camera=CAMERA_NAME, **look)
         self.views["scene"] = SceneView(world, w, h, lookat_m=config.scene_lookat_m,
                                         distance_m=config.scene_distance_m,
                                         azimuth_deg=config.scene_azimuth_deg,
-                                        elevation_deg=config.scene_elevation_deg)
+                                        elevation_deg=config.scene_elevation_deg, **look)
 
     def __call__(self) -> tuple[dict, dict]:
         images, depths = {}, {}

@@ -22,6 +22,8 @@ class RecordConfig:
     scene_azimuth_deg: float = 120.0
     scene_elevation_deg: float = -35.0
     depth_max_m: float = 3.0
+    render_shadows: bool = False
+    render_reflections: bool = False
     use_videos: bool = True
     video_codec: str = "libsvtav1"
     repo_id: str = "grasp_pipeline/picks"

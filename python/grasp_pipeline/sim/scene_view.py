@@ -26,7 +26,8 @@ TABLE_VIEW = {"lookat_m": (0.52, 0.0, 0.22), "distance_m": 0.55, "azimuth_deg": 
 class SceneView:
     """``render()`` → (H, W, 3) uint8 image of the world now; ``render_depth()`` → (H, W)
     float32 distances along the view axis [m]. ``camera``: a model camera's name instead of
-    the free view (its pose and field of view; the other view arguments are ignored).
+    the free view (its pose and field of view; the other view arguments are ignored);
+    ``shadows``/``reflections``: MuJoCo's render flags.
 
     Rendering reads the world and never changes its state: the images show the kinematics
     of the last physics step, as the run's video does."""
@@ -34,9 +35,13 @@ class SceneView:
     def __init__(self, world, width_px: int = 640, height_px: int = 480,
                  lookat_m=VIEW_LOOKAT_M, distance_m: float = VIEW_DISTANCE_M,
                  azimuth_deg: float = VIEW_AZIMUTH_DEG,
-                 elevation_deg: float = VIEW_ELEVATION_DEG, camera: str | None = None) -> None:
+                 elevation_deg: float = VIEW_ELEVATION_DEG, camera: str | None = None,
+                 shadows: bool = True, reflections: bool = True) -> None:
         self.world = world
         self.renderer = new_renderer(world.model, height_px, width_px)
+        # (software GL: shadows and reflections cost most of a small image's render time)
+        self.renderer.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = bool(shadows)
+        self.renderer.scene.flags[mujoco.mjtRndFlag.mjRND_REFLECTION] = bool(reflections)
         if camera is not None:
             self.cam = world.model.camera(camera).id
             return
