@@ -128,6 +128,9 @@ def _simulate(a: dict, work: Path, progress: bool) -> tuple[list[dict], bool]:
         rows += batch
         if len(batch) < n:  # interrupted: the rounds not started are not there
             break
+        if all(r.get("error") for r in batch):  # (e.g. no GL, a broken install): no more rounds
+            log.error("every round of the last batch failed (%s); stopping", batch[0]["error"])
+            break
     return sorted(rows, key=lambda r: r["index"]), interrupted
 
 
