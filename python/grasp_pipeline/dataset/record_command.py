@@ -34,8 +34,6 @@ log = logging.getLogger(__name__)
 PROTOCOLS = ("sparse", "packed")
 #: Give up when this many rounds per requested episode gave too few episodes.
 MAX_ROUNDS_PER_EPISODE = 5
-#: Kept episodes per round assumed before any round finished (sizes the first batch).
-FIRST_GUESS_PER_ROUND = 1.5
 
 
 def _record_task(task: tuple) -> dict:
@@ -98,8 +96,12 @@ def _kept(rows: list[dict]) -> list[tuple[dict, dict]]:
 
 
 def _batch(needed: int, rows: list[dict], workers: int) -> int:
-    per_round = len(_kept(rows)) / len(rows) if rows and _kept(rows) else FIRST_GUESS_PER_ROUND
-    n = max(workers, math.ceil(needed / per_round))
+    """Rounds to start next: one per worker first, then as many as the episodes kept per round
+    so far say are still needed (a multiple of the worker count)."""
+    kept = len(_kept(rows))
+    if not rows or not kept:
+        return workers
+    n = max(workers, math.ceil(needed * len(rows) / kept))
     return workers * math.ceil(n / workers)
 
 
