@@ -139,8 +139,10 @@ def _simulate(a: dict, work: Path, progress: bool) -> tuple[list[dict], bool]:
 def _write(a: dict, settings, rows: list[dict]) -> list[dict]:
     from .episode import Episode
 
-    writer = LeRobotWriter(a["out"], settings.record, a["depth"])
     written = []
+    if not _kept(rows):  # no dataset without episodes (the summary says why)
+        return written
+    writer = LeRobotWriter(a["out"], settings.record, a["depth"])
     for r, e in _kept(rows)[: a["episodes"]]:
         extra = {"scene_seed": r["seed"], "round": r["round"], "attempt": e["attempt"]}
         writer.add(Episode.load(Path(e["file"]), e), extra)
