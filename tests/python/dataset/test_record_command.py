@@ -19,9 +19,10 @@ import pytest
 from grasp_pipeline.bench.grasp_bench import scene_seed
 
 EXE = Path(sys.executable).parent / "grasp-pipeline"
-SEED, EPISODES = 3, 2
+SEED, EPISODES, IMAGE_PX = 3, 2, 64   # small images: rendering and encoding cost ~ pixels
 ARGS = ["--log-level", "WARNING", "record", "--protocol", "sparse", "--episodes", str(EPISODES),
         "--seed", str(SEED), "--workers", "2", "--keep-failed", "--no-progress",
+        "--image-size", str(IMAGE_PX),
         "--set", "sim.object_count=[1,1]"]
 
 
@@ -67,7 +68,7 @@ def test_dataset_loads_with_lerobot_with_its_features_and_episodes(datasets):
     item = ds[0]
     for cam in ("wrist", "scene"):
         img = item[f"observation.images.{cam}"]
-        assert tuple(img.shape) == (3, 256, 256)
+        assert tuple(img.shape) == (3, IMAGE_PX, IMAGE_PX)
         assert float(img.std()) > 0.01, f"{cam} image is blank"
     assert tuple(item["observation.state"].shape) == (8,) and tuple(item["action"].shape) == (8,)
     assert tuple(item["observation.ee_pose"].shape) == (7,) and tuple(item["action.ee_delta"].shape) == (7,)
