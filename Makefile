@@ -28,7 +28,7 @@ demo: setup
 
 test: setup gtest pytest
 
-setup: system-deps $(VENV)/.installed
+setup: system-deps $(VENV)/.installed $(VENV)/.dataset
 
 # apt: only when a package is missing (dpkg -s answers for installed ones).
 system-deps:
@@ -45,6 +45,16 @@ $(VENV)/bin/python:
 $(VENV)/.installed: $(VENV)/bin/python $(SOURCES)
 	@rm -f python/grasp_pipeline/_*.so  # a dev build (scripts/dev_build_core.sh) must not ship
 	$(PIP) install -q ".[test,meshes,ray,rerun]" $(QUIET_PIP)
+	@touch $@
+
+# LeRobot's dataset code for `record` and its tests (the 'dataset' extra, lean): torch/torchvision
+# within lerobot 0.4.4's pins (taken from this machine's disk), lerobot without its training/robot
+# dependencies, and what lerobot.datasets imports (requirements/dataset-ci.txt explains).
+DATASET_TORCH := torch==2.9.1 torchvision==0.24.1
+$(VENV)/.dataset: $(VENV)/bin/python requirements/dataset-ci.txt
+	$(PIP) install -q $(DATASET_TORCH) $(QUIET_PIP)
+	$(PIP) install -q --no-deps lerobot==0.4.4 $(QUIET_PIP)
+	$(PIP) install -q -r requirements/dataset-ci.txt $(QUIET_PIP)
 	@touch $@
 
 gtest: system-deps

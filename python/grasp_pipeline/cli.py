@@ -5,6 +5,7 @@ Sub-commands:
   run                       rough view, active scan, pick (and place) the selected objects
   bench perception|sim|planning|grasp|workers|frames
                             benchmarks that print figures and write JSON
+  record                    scripted demonstrations (declutter picks) as a LeRobot dataset
   perceive FILE             one point cloud from disk (.pcd/.ply/.npy) through the
                             scene filter and estimates; prints, writes JSON (+ PNG)
 
@@ -112,6 +113,37 @@ def _add_clutter_bench(bsub) -> None:
     _add_backend_options(c)
     _add_config_options(c, "scene_filter, obb, camera, sim, clutter, motion, scan, grasp, declutter",
                         "clutter.objects_per_scene=3")
+
+
+def _add_record(sub: argparse._SubParsersAction) -> None:
+    r = sub.add_parser(
+        "record", help="scripted demonstrations as a LeRobot dataset (one episode per pick)",
+        description="Declutter rounds (rough view, scan, one pick at a time into the tray) recorded "
+                    "as a LeRobot dataset (format v3.0): wrist and scene camera RGB, joint state, "
+                    "end-effector pose, joint-target and end-effector-delta actions at --fps, a "
+                    "language task and the outcome per episode. Needs the 'dataset' extra "
+                    "(pip install 'grasp-pipeline[dataset]').")
+    r.add_argument("--protocol", choices=["sparse", "packed"], default="sparse",
+                   help="scene protocol (default sparse)")
+    r.add_argument("--objects", default="builtin", metavar="builtin|DIR",
+                   help="object set of packed scenes: the built-in set or a folder of URDF/OBJ/STL objects")
+    r.add_argument("--episodes", type=positive_int, required=True, help="episodes to write")
+    r.add_argument("--seed", type=non_negative_int, default=0, help="seed; round seeds derive from it")
+    r.add_argument("--workers", type=positive_int, default=1, help="worker processes (one thread each)")
+    r.add_argument("--out", type=Path, required=True, help="the dataset folder (new or empty)")
+    r.add_argument("--fps", type=positive_int, default=None, help="recording rate in simulated time "
+                   "(default record.yaml: 15)")
+    r.add_argument("--image-size", type=positive_int, default=None, metavar="PX",
+                   help="square image side (default record.yaml: 256)")
+    r.add_argument("--depth", action="store_true", help="also depth images of both cameras")
+    r.add_argument("--keep-failed", action="store_true",
+                   help="keep failed picks as episodes too (marked episode.success = false)")
+    r.add_argument("--no-progress", action="store_true", help="no progress bar")
+    r.add_argument("--round-timeout", type=positive_float, default=3600.0, metavar="S",
+                   help="wall-clock limit of one round in seconds (default 3600)")
+    _add_backend_options(r)
+    _add_config_options(r, "record, scene_filter, obb, camera, sim, clutter, motion, scan, grasp, declutter",
+                        "record.scene_azimuth_deg=90")
 
 
 def _add_backend_options(p: argparse.ArgumentParser) -> None:
@@ -244,6 +276,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_pick_options(demo, "out/demo")
     _add_run(sub)
     _add_bench(sub)
+    _add_record(sub)
     _add_perceive(sub)
     return parser
 
@@ -323,6 +356,10 @@ def _run(args: argparse.Namespace) -> int:
     if args.command == "bench":
         _run_bench(args)
         return 0
+    if args.command == "record":
+        from .dataset.record_command import record_main
+
+        return record_main(args)
     if args.command == "perceive":
         from .perceive import run_perceive
 
@@ -342,7 +379,7 @@ def _split_log_level(argv: list[str] | None) -> tuple[Optional[str], list[str]]:
 
 
 def _uses_mujoco(args: argparse.Namespace) -> bool:
-    return args.command in ("run", "demo") or (args.command == "bench" and args.bench != "perception")
+    return args.command in ("run", "demo", "record") or (args.command == "bench" and args.bench != "perception")
 
 
 def main(argv: list[str] | None = None) -> int:

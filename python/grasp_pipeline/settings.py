@@ -39,6 +39,7 @@ SECTIONS: Mapping[str, tuple[str, str]] = MappingProxyType({
     "video": ("grasp_pipeline.report.config", "VideoConfig"),
     "language": ("grasp_pipeline.language.config", "LanguageConfig"),
     "rerun": ("grasp_pipeline.report.config", "RerunConfig"),
+    "record": ("grasp_pipeline.dataset.config", "RecordConfig"),
 })
 
 

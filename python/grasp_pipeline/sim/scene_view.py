@@ -1,7 +1,9 @@
 """The fixed third-person view of the work cell that the run's video shows.
 
 :class:`SceneView` renders the simulated world from a free camera (robot, table and tray in
-view) through :func:`~.gl_backend.new_renderer`; where no GL context can exist it raises
+view) — or from one of the model's cameras (``camera="wrist_depth_camera"``: a view that
+moves with the hand, e.g. for a dataset's wrist images) — through
+:func:`~.gl_backend.new_renderer`, as RGB or depth; where no GL context can exist it raises
 :class:`~.exceptions.RenderUnavailable` at construction, and the caller skips the video.
 """
 
@@ -22,14 +24,27 @@ TABLE_VIEW = {"lookat_m": (0.52, 0.0, 0.22), "distance_m": 0.55, "azimuth_deg": 
 
 
 class SceneView:
-    """``render()`` → (H, W, 3) uint8 image of the world now."""
+    """``render()`` → (H, W, 3) uint8 image of the world now; ``render_depth()`` → (H, W)
+    float32 distances along the view axis [m]. ``camera``: a model camera's name instead of
+    the free view (its pose and field of view; the other view arguments are ignored);
+    ``shadows``/``reflections``: MuJoCo's render flags.
+
+    Rendering reads the world and never changes its state: the images show the kinematics
+    of the last physics step, as the run's video does."""
 
     def __init__(self, world, width_px: int = 640, height_px: int = 480,
                  lookat_m=VIEW_LOOKAT_M, distance_m: float = VIEW_DISTANCE_M,
                  azimuth_deg: float = VIEW_AZIMUTH_DEG,
-                 elevation_deg: float = VIEW_ELEVATION_DEG) -> None:
+                 elevation_deg: float = VIEW_ELEVATION_DEG, camera: str | None = None,
+                 shadows: bool = True, reflections: bool = True) -> None:
         self.world = world
         self.renderer = new_renderer(world.model, height_px, width_px)
+        # (software GL: shadows and reflections cost most of a small image's render time)
+        self.renderer.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = bool(shadows)
+        self.renderer.scene.flags[mujoco.mjtRndFlag.mjRND_REFLECTION] = bool(reflections)
+        if camera is not None:
+            self.cam = world.model.camera(camera).id
+            return
         cam = mujoco.MjvCamera()
         cam.type = mujoco.mjtCamera.mjCAMERA_FREE
         cam.lookat[:] = lookat_m
@@ -43,6 +58,17 @@ class SceneView:
             raise RuntimeError("SceneView is closed")
         self.renderer.update_scene(self.world.data, camera=self.cam)
         return np.asarray(self.renderer.render())
+
+    def render_depth(self) -> np.ndarray:
+        """The depth image of the same view [m] (call after :meth:`render` for the same
+        instant: the scene is not updated again)."""
+        if self.renderer is None:
+            raise RuntimeError("SceneView is closed")
+        self.renderer.enable_depth_rendering()
+        try:
+            return np.asarray(self.renderer.render(), dtype=np.float32)
+        finally:
+            self.renderer.disable_depth_rendering()
 
     def close(self) -> None:
         if self.renderer is not None:

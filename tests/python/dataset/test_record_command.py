@@ -1,0 +1,159 @@
+"""``grasp-pipeline record``: a 2-episode dataset through the installed console script in a
+clean environment, read back with LeRobot's own ``LeRobotDataset``; the same seed on the Ray
+backend gives the same dataset; without LeRobot the command refuses before simulating.
+
+The two episodes are two one-object sparse rounds (2 workers, one round each) with
+``--keep-failed``, so the dataset holds both attempts whatever their outcome.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from grasp_pipeline.bench.grasp_bench import scene_seed
+
+EXE = Path(sys.executable).parent / "grasp-pipeline"
+SEED, EPISODES, IMAGE_PX = 3, 2, 64   # small images: rendering and encoding cost ~ pixels
+ARGS = ["--log-level", "WARNING", "record", "--protocol", "sparse", "--episodes", str(EPISODES),
+        "--seed", str(SEED), "--workers", "2", "--keep-failed", "--no-progress",
+        "--image-size", str(IMAGE_PX),
+        "--set", "sim.object_count=[1,1]"]
+
+
+def _record(d: Path, backend: str) -> subprocess.CompletedProcess:
+    env = {"PATH": f"{EXE.parent}:/usr/bin:/bin", "HOME": str(d), "LANG": "C.UTF-8"}
+    return subprocess.run([str(EXE), *ARGS, "--backend", backend, "--out", "ds"], cwd=d, env=env,
+                          capture_output=True, text=True, timeout=1800, stdin=subprocess.DEVNULL)
+
+
+@pytest.fixture(scope="module")
+def datasets(tmp_path_factory):
+    assert EXE.exists(), f"{EXE} is missing: install the package first (make setup)"
+    out = {}
+    for backend in ("local", "ray"):
+        d = tmp_path_factory.mktemp(backend)
+        res = _record(d, backend)
+        assert res.returncode == 0 and "Traceback" not in res.stderr, res.stderr[-3000:]
+        out[backend] = (d / "ds", json.loads(res.stdout))
+    return out
+
+
+def _load(root: Path):
+    from lerobot.datasets.lerobot_dataset import LeRobotDataset
+
+    return LeRobotDataset("grasp_pipeline/picks", root=root)
+
+
+def _columns(ds, key: str) -> np.ndarray:
+    return np.stack([np.asarray(v) for v in ds.hf_dataset[key]])
+
+
+def _outcomes(root: Path) -> list[dict]:
+    return [json.loads(line) for line in (root / "meta/grasp_pipeline_episodes.jsonl").read_text().splitlines()]
+
+
+def test_dataset_loads_with_lerobot_with_its_features_and_episodes(datasets):
+    root, summary = datasets["local"]
+    assert summary["status"] == "complete" and summary["episodes_written"] == EPISODES
+    info = json.loads((root / "meta/info.json").read_text())
+    assert info["codebase_version"] == "v3.0" and info["fps"] == 15
+    ds = _load(root)
+    assert ds.fps == 15 and ds.num_episodes == EPISODES
+    item = ds[0]
+    for cam in ("wrist", "scene"):
+        img = item[f"observation.images.{cam}"]
+        assert tuple(img.shape) == (3, IMAGE_PX, IMAGE_PX)
+        assert float(img.std()) > 0.01, f"{cam} image is blank"
+    assert tuple(item["observation.state"].shape) == (8,) and tuple(item["action"].shape) == (8,)
+    assert tuple(item["observation.ee_pose"].shape) == (7,) and tuple(item["action.ee_delta"].shape) == (7,)
+    # episode boundaries: contiguous index ranges, frame_index restarting at 0, lengths as listed
+    ep_index, frame_index = _columns(ds, "episode_index"), _columns(ds, "frame_index")
+    outcomes = _outcomes(root)
+    start = 0
+    for k, o in enumerate(outcomes):
+        ep = ds.meta.episodes[k]
+        assert (ep["dataset_from_index"], ep["dataset_to_index"]) == (start, start + o["length"])
+        assert np.all(ep_index[start:start + o["length"]] == k)
+        assert np.array_equal(frame_index[start:start + o["length"]], np.arange(o["length"]))
+        start += o["length"]
+    assert start == ds.num_frames
+
+
+def test_tasks_and_outcomes_name_each_target(datasets):
+    from grasp_pipeline.dataset.record_settings import record_settings
+    from grasp_pipeline.bench.clutter_round import round_scene
+
+    root, summary = datasets["local"]
+    ds, outcomes = _load(root), _outcomes(root)
+    success, done = _columns(ds, "episode.success"), _columns(ds, "next.done")
+    stages = [str(x) for x in ds.hf_dataset["episode.failed_stage"]]
+    settings = record_settings((None, ("sim.object_count=[1,1]",)))
+    for k, o in enumerate(outcomes):
+        (obj,) = round_scene("sparse", scene_seed(SEED, o["round"]), "builtin", settings).objects
+        assert o["task"] == f"pick up the {obj.category or obj.kind} and put it in the tray"
+        assert o["object"] == obj.name
+        ep = ds.meta.episodes[k]
+        assert list(ep["tasks"]) == [o["task"]]
+        rows = slice(ep["dataset_from_index"], ep["dataset_to_index"])
+        assert set(success[rows].reshape(-1).tolist()) == {o["success"]}
+        assert set(stages[rows]) == {o["failed_stage"]}
+        assert done[rows].reshape(-1).tolist() == [False] * (o["length"] - 1) + [True]
+    assert set(ds.meta.tasks.index) == {o["task"] for o in outcomes}
+
+
+def test_each_action_leads_to_the_next_state(datasets):
+    """Frame i's joint targets are those the controller tracks until frame i+1: the measured
+    joints at i+1 lie within the executor's own "reached" tolerance of them
+    (``motion.settle_position_tol_rad``, 5 mrad; the PD servos with velocity feed-forward track
+    the timed references far closer), while the arm moves tens of mrad between frames — so
+    a target one frame late or early would fail this."""
+    from grasp_pipeline.settings import load_settings
+
+    tol = load_settings(["motion"]).motion.settle_position_tol_rad
+    root, _ = datasets["local"]
+    ds = _load(root)
+    state, action = _columns(ds, "observation.state"), _columns(ds, "action")
+    for ep in ds.meta.episodes:
+        a, b = ep["dataset_from_index"], ep["dataset_to_index"]
+        q, target = state[a:b, :7], action[a:b, :7]
+        assert np.max(np.abs(q[1:] - target[:-1])) <= tol
+        assert np.max(np.abs(np.diff(q, axis=0))) > 5 * tol          # the arm really moved
+        assert np.max(np.abs(q[:-1] - target[:-1])) > tol            # i's state is not i's action
+
+
+def test_ray_backend_writes_the_same_dataset(datasets):
+    (local, s_local), (ray, s_ray) = datasets["local"], datasets["ray"]
+    assert s_ray["backend"] == "ray" and s_ray["status"] == "complete"
+    assert _outcomes(local) == _outcomes(ray)
+    a, b = _load(local), _load(ray)
+    for key in ("observation.state", "observation.ee_pose", "action", "action.ee_delta",
+                "episode_index", "frame_index", "task_index"):
+        assert np.array_equal(_columns(a, key), _columns(b, key)), key
+
+
+def test_record_without_lerobot_refuses_before_simulating(tmp_path):
+    code = ("import sys; sys.modules['lerobot'] = None\n"
+            "from grasp_pipeline.cli import main\n"
+            "sys.exit(main(['record', '--episodes', '1', '--out', 'ds']))")
+    res = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True,
+                         timeout=300)
+    assert res.returncode != 0 and "Traceback" not in res.stderr, res.stderr[-2000:]
+    assert "pip install 'grasp-pipeline[dataset]'" in res.stderr
+    assert not (tmp_path / "ds").exists()
+
+
+def test_record_refuses_a_used_output_folder(tmp_path):
+    (tmp_path / "ds").mkdir()
+    (tmp_path / "ds" / "keep.txt").write_text("mine")
+    code = ("import sys\nfrom grasp_pipeline.cli import main\n"
+            "sys.exit(main(['record', '--episodes', '1', '--out', 'ds']))")
+    res = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True,
+                         timeout=300)
+    assert res.returncode != 0 and "not an empty folder" in res.stderr
+    assert (tmp_path / "ds" / "keep.txt").read_text() == "mine"
