@@ -83,7 +83,8 @@ def _targets(system: System, settings: Settings, report: RunReport, select, roug
     if select:
         return list(select)
     targets, report.targets_skipped = default_targets(
-        system.loop.tracks(), system.cell, settings.grasp.target_fixture_margin_m, rough_tids)
+        system.loop.tracks(), system.cell, settings.grasp.target_fixture_margin_m, rough_tids,
+        system.loop.judge)
     for s in report.targets_skipped:
         log.info("not picking track #%d at (%.3f, %.3f): %s", s["tid"], *s["center"], s["why"])
     return targets
@@ -176,7 +177,9 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
         if prepare is not None:  # after the built-in recorders: the pick evaluation comes first
             prepare(system)
         _stages(system, settings, report, recorders[0], select, scan, place,
-                grasp_source or GeometricGraspSource(settings.grasp), declutter)
+                grasp_source or GeometricGraspSource(settings.grasp, fit=settings.grasp_fit,
+                                                     motion=settings.motion),
+                declutter)
         report.status = STATUS_FAILED if report.error else STATUS_COMPLETE
     except KeyboardInterrupt:
         system.world.hold()

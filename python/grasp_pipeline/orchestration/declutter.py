@@ -93,7 +93,8 @@ def clear_table(ctx: PickContext, cell, rough_tids: set, config: DeclutterConfig
     out, failed_anchors, consecutive = DeclutterOutcome(), [], 0
     margin = ctx.settings.grasp.target_fixture_margin_m
     while True:
-        targets, out.skipped = default_targets(ctx.loop.tracks(), cell, margin, rough_tids)
+        targets, out.skipped = default_targets(ctx.loop.tracks(), cell, margin, rough_tids,
+                                               ctx.loop.judge)
         targets = choose_order(ctx, targets, failed_anchors, config)
         if not targets:
             out.end_reason = END_NO_TARGET

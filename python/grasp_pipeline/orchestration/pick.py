@@ -57,7 +57,7 @@ def _reprobe_centre(ctx: PickContext, xy) -> Optional[np.ndarray]:
     """Where to look from above before picking at ``xy`` (None: the track is NADIR)."""
     loop = ctx.loop
     chk = check_selection(float(xy[0]), float(xy[1]), loop.tracks(), loop.gate_m, loop.plane,
-                          loop.selector.fallback_limit_m)
+                          loop.selector.fallback_limit_m, loop.selector.judge)
     track = None if chk.kind in ("far", "nothing") else chk.track
     if track is not None and track.quality == _core.ViewQuality.NADIR:
         return None
@@ -110,7 +110,8 @@ def _candidates(ctx: PickContext, xy, sel) -> list:
     req = GraspRequest(anchor_xy=(float(xy[0]), float(xy[1])), target=target,
                        published=loop.selector.best_grasp,
                        scene=snapshot(loop, exclude_tids=ctx.action.lingering_tids()),
-                       max_width_m=s.obb.gripper_open - s.grasp.open_margin_m)
+                       max_width_m=s.obb.gripper_open - s.grasp.open_margin_m,
+                       cloud=loop.scene_cloud(), min_width_m=s.obb.min_graspable_width)
     return list(ctx.source.propose(req))
 
 
