@@ -13,7 +13,9 @@ above the table):
   lowest visible point is high (lying on another), also half-way between that point and its top;
 * **material**: the object's own points in the pads' strip (``|a - a0| ≤ finger_width / 2``)
   above the pads' lowest point — at least ``min_material_points`` of them; their span along
-  ``c`` is the width to close on (the pads are centred on it), which must fit the opening;
+  ``c`` is the width to close on (the pads are centred on it), which must fit the opening
+  with at least ``min_open_margin_m`` to spare (the fingers open to width + ``open_margin_m``,
+  at most the gripper's opening: a 68 mm mug is grasped with 6 mm to spare on each side);
   at each end the material within ``contact_depth_m`` of it must span at least
   ``min_contact_fraction`` of the pad's width (an L's arm end under a pad's corner is no grip);
 * **the planner's view**: the planner models the neighbours as boxes (grown by its collision
@@ -134,6 +136,11 @@ class LineLimits:
     top_h: float
     palm_clearance_m: float
     cfg: GraspFitConfig
+    max_opening_m: float = 0.08
+
+    def opening(self, width_m: float) -> float:
+        """The fingers' gap while approaching: width + margin, at most the gripper's opening."""
+        return min(width_m + self.open_margin_m, self.max_opening_m)
 
 
 def _material(own: np.ndarray, a0: float, pad_bottom: float, lim: LineLimits):
@@ -156,7 +163,7 @@ def _fingers(near: np.ndarray, a0: float, mid: float, width: float, pad_bottom: 
     """(points in the worse finger column, clearance [m]) of the two descent columns."""
     hand, cfg, tol = lim.hand, lim.cfg, lim.cfg.column_tolerance_m
     pts = near[near[:, 2] >= pad_bottom - tol]
-    inner = 0.5 * (width + lim.open_margin_m)
+    inner = 0.5 * lim.opening(width)
     worst, best = 0, np.inf
     for sign in (1.0, -1.0):
         c0 = mid + sign * inner
@@ -222,7 +229,7 @@ def check_line(own: np.ndarray, obstacles: np.ndarray, a0: float, contact_h: flo
         blocked, clear = _fingers(others, a0, mid, width, pad_bottom, lim)
         if blocked > cfg.blocked_points:
             return LineCheck(False, f"a finger blocked by {blocked} points", mid, width)
-        opening = min(width + lim.open_margin_m, lim.max_width_m + lim.open_margin_m)
+        opening = lim.opening(width)
         need = -np.inf if spheres is None else _sphere_need(boxes, a0, mid, opening, spheres)
         if need <= contact_h + 1e-4:
             return LineCheck(True, "", mid, width, clear, contact_h)
@@ -281,8 +288,9 @@ def fit_lines(track, cloud: SceneCloud, hand: HandClearances, grasp_cfg: GraspCo
     obst_pts = lc.points[~own_mask & ((lc.owner != ENVIRONMENT) | (h_all > lc.band_m))]
     box_pts = box_samples(neighbour_boxes, lc.plane_n, lc.plane_c, box_margin_m, cfg.footprint_cell_m)
     centroid = lc.points[own_mask].mean(axis=0)
-    lim = LineLimits(hand, grasp_cfg.open_margin_m, min_width_m, max_width_m, float(e.height_m),
-                     grasp_cfg.palm_clearance_m, cfg)
+    open_max = max_width_m + grasp_cfg.open_margin_m  # the gripper's opening
+    lim = LineLimits(hand, grasp_cfg.open_margin_m, min_width_m, open_max - cfg.min_open_margin_m,
+                     float(e.height_m), grasp_cfg.palm_clearance_m, cfg, open_max)
     out = []
     for k, fr in enumerate(_frames(track, lc)):
         own = _local(fr, lc.points[own_mask], lc)
