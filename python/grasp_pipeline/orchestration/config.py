@@ -124,13 +124,15 @@ class GraspFitConfig:
     min_contact_fraction: float = 0.5
     max_centroid_offset_m: float = 0.02
     min_open_margin_m: float = 0.008
+    level_gap_m: float = 0.01
 
     def validate(self) -> None:
         _positive(self, "cloud_voxel_m", "support_gap_m", "footprint_cell_m", "line_step_m",
                   "min_material_points", "max_candidates")
         _positive(self, "support_ring_m", "blocked_points", "column_tolerance_m",
                   "clearance_enough_m", "min_pad_overlap_m", allow_zero=True)
-        _positive(self, "contact_depth_m", "max_centroid_offset_m", "min_open_margin_m")
+        _positive(self, "contact_depth_m", "max_centroid_offset_m", "min_open_margin_m",
+                  "level_gap_m")
         for name in ("see_through_fraction", "min_contact_fraction"):
             if not 0 < getattr(self, name) <= 1:
                 raise ConfigError(f"GraspFitConfig.{name}: expected (0, 1]")

@@ -10,7 +10,9 @@ above the table):
 * **lines**: both box axes as closing axis; on each, lines every ``line_step_m`` across the
   object (contact points shifted along the box), plus the line through the points' centroid;
   at the contact height of :func:`~.grasp_source.contact_height_m` and, for an object whose
-  lowest visible point is high (lying on another), also half-way between that point and its top;
+  lowest visible point is high (lying on another), also half-way between that point and its
+  top, and just above each lower step of its top surface (:func:`surface_levels`: the upper
+  box of a stack that segmentation merged into one cluster is grasped alone);
 * **material**: the object's own points in the pads' strip (``|a - a0| ≤ finger_width / 2``)
   above the pads' lowest point — at least ``min_material_points`` of them; their span along
   ``c`` is the width to close on (the pads are centred on it), which must fit the opening
@@ -241,17 +243,38 @@ def check_line(own: np.ndarray, obstacles: np.ndarray, a0: float, contact_h: flo
     return LineCheck(False, "unreachable")
 
 
-def _heights(track, own_h: np.ndarray, hand: HandClearances, grasp_cfg: GraspConfig,
+def surface_levels(own: np.ndarray, cell_m: float, gap_m: float) -> list[float]:
+    """Heights of the lower steps of an object seen from above: the tops of the grid columns
+    of its points (``own``: local (c, a, h)), sorted; wherever two successive tops differ by
+    more than ``gap_m`` the lower one is a step (a box on a box merged into one cluster, a
+    bottle's shoulder). Highest step first."""
+    ij = np.floor(own[:, :2] / cell_m).astype(np.int64)
+    ij -= ij.min(axis=0)
+    key = ij[:, 0] * (int(ij[:, 1].max()) + 1) + ij[:, 1]
+    order = np.lexsort((own[:, 2], key))
+    last = np.r_[key[order][1:] != key[order][:-1], True]
+    tops = np.sort(own[order][last, 2])
+    gaps = np.nonzero(np.diff(tops) > gap_m)[0]
+    return [float(tops[g]) for g in gaps[::-1]]
+
+
+def _heights(track, own: np.ndarray, hand: HandClearances, grasp_cfg: GraspConfig,
              cfg: GraspFitConfig, band_m: float) -> list[float]:
-    """Contact heights to try: SPEC 3 / ours for the whole height, then — when the lowest
-    visible point is high (lying on something) — centred between that point and the top."""
+    """Contact heights to try: SPEC 3 / ours for the whole height; for an object whose lowest
+    visible point is high (lying on something), centred between that point and its top; and
+    just above each lower step of its top surface (the upper part alone: a box on a box seen
+    as one cluster), where the pads still overlap the part above by ``min_pad_overlap_m``."""
     from .grasp_source import contact_height_m
 
     height = float(track.smoothed.height_m)
     out = [contact_height_m(height, hand, grasp_cfg)]
-    bottom = float(own_h.min())
+    bottom = float(own[:, 2].min())
     if bottom > band_m + cfg.support_gap_m:
         out.append(contact_height_m(height - bottom, hand, grasp_cfg) + bottom)
+    for level in surface_levels(own, cfg.footprint_cell_m, cfg.level_gap_m):
+        ch = level + grasp_cfg.table_clearance_m + hand.pad_below_tcp_m
+        if ch <= height + hand.pad_below_tcp_m - cfg.min_pad_overlap_m:
+            out.append(ch)
     return out
 
 
@@ -299,7 +322,7 @@ def fit_lines(track, cloud: SceneCloud, hand: HandClearances, grasp_cfg: GraspCo
         a_cent = float((centroid - fr.origin) @ fr.e_a)
         a_lo, a_hi = float(own[:, 1].min()), float(own[:, 1].max())
         offsets = sorted(set(np.round(np.arange(a_lo, a_hi + 1e-9, cfg.line_step_m), 4)) | {round(a_cent, 4)})
-        for ch in _heights(track, own[:, 2], hand, grasp_cfg, cfg, lc.band_m):
+        for ch in _heights(track, own, hand, grasp_cfg, cfg, lc.band_m):
             for a0 in offsets:
                 r = check_line(own, obst, a0, ch, lim, boxes, spheres)
                 pos = fr.origin + r.mid_c * fr.e_c + a0 * fr.e_a + r.contact_h * fr.n

@@ -144,3 +144,14 @@ def test_the_source_falls_back_to_the_box_grasps_without_points():
     assert grasps and abs(grasps[0].width_m - 0.04) < 0.004
     R = np.asarray(grasps[0].R)
     assert np.allclose(R[:, 0], [0, 0, -1]) and abs(np.linalg.det(R) - 1) < 1e-9
+
+
+def test_a_stack_seen_as_one_cluster_is_grasped_by_its_upper_box():
+    lower = block(0.48, 0.56, -0.02, 0.035, 0.0, 0.028)
+    upper = block(0.505, 0.535, 0.0, 0.03, 0.028, 0.058)
+    merged = np.vstack([upper, lower])
+    _, ranked = _fit(track_of(0, merged), scene((0, merged), (ENV, table())))
+    assert ranked
+    best = ranked[0]
+    assert abs(best.width_m - 0.03) < 0.004, best
+    assert best.position[2] - HAND.pad_below_tcp_m > 0.028  # pads above the lower box
