@@ -36,7 +36,8 @@ above the table):
   ``max_centroid_offset_m`` from it are not offered), then narrowest; at most ``max_candidates``, two lines of one axis at least two steps apart.
 
 The 2.5-D assumption: what is seen from above extends down to what is under it (occluded
-space counts as material where the object's points are above it, as free elsewhere).
+space counts as material where the object's points are above it, as free elsewhere). The rule in
+words, next to SPEC 3: ``docs/spec_extensions.md``.
 """
 
 from __future__ import annotations

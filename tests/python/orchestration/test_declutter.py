@@ -8,6 +8,7 @@ import pytest
 from grasp_pipeline import _core
 from grasp_pipeline.orchestration import declutter
 from grasp_pipeline.orchestration.config import DeclutterConfig
+from grasp_pipeline.orchestration.selection import spec_judge
 from grasp_pipeline.results import PickResult
 
 
@@ -31,7 +32,8 @@ def test_targets_near_a_failed_anchor_go_last():
 def fake(monkeypatch):
     """A context whose table holds ``state['objects']``; a pick succeeds per ``state['plan']``."""
     state = {"objects": [(0.40, 0.0), (0.50, 0.0), (0.60, 0.0)], "plan": [], "looks": 0}
-    loop = SimpleNamespace(tracks=lambda: [_track(i, *xy) for i, xy in enumerate(state["objects"])])
+    loop = SimpleNamespace(tracks=lambda: [_track(i, *xy) for i, xy in enumerate(state["objects"])],
+                           judge=spec_judge)
     ctx = SimpleNamespace(loop=loop, settings=SimpleNamespace(grasp=SimpleNamespace(target_fixture_margin_m=0.03)))
 
     def pick(_ctx, xy):
