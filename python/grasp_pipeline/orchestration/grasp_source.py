@@ -7,11 +7,11 @@ produced them, so a learned grasp detector replaces the geometric one by impleme
 :meth:`GraspSource.propose` — nothing in motion or execution changes.
 
 * :class:`GeometricGraspSource` — with the scene's points (``GraspRequest.cloud``): top-down
-  grasps fitted to the points (:mod:`.grasp_fit`: material between the pads, both fingers'
-  descent free, the opening fits; ranked by clearance), ours. Without points, or when no
-  line passes: SPEC 3's top-down grasp from the target's box (the grasp the selection
-  publishes every frame), then closing across the other side when it fits; both at a
-  contact height that fits the hand (:func:`contact_height_m`, ours).
+  grasps fitted to the points first (:mod:`.grasp_fit`: material between the pads, both
+  fingers' descent free, the opening fits; ranked by clearance), ours. Then, as the last
+  resort: SPEC 3's top-down grasp from the target's box (the grasp the selection publishes
+  every frame), then closing across the other side when it fits; both at a contact height
+  that fits the hand (:func:`contact_height_m`, ours).
 * :class:`FixedGraspSource` — a fixed list of poses (known grasps, a replay, a test).
 """
 
@@ -96,9 +96,9 @@ def at_contact_height(grasp, plane, height_m: float, hand: HandClearances, confi
 
 
 class GeometricGraspSource:
-    """Grasps fitted to the points when the request has them (:mod:`.grasp_fit`); else (or
-    when no line passes) the published SPEC 3 grasp, then the perpendicular one when that side
-    fits, each at a contact height that fits the hand (:func:`contact_height_m`).
+    """Grasps fitted to the points when the request has them (:mod:`.grasp_fit`), then the
+    published SPEC 3 grasp and the perpendicular one when that side fits, each at a contact
+    height that fits the hand (:func:`contact_height_m`).
 
     ``config``: the grasp parameters (clearances); ``fit``: the point checks' parameters;
     ``hand``: the hand's extent around the TCP (default: read from the robot model);
@@ -122,8 +122,9 @@ class GeometricGraspSource:
         return [b for b, t in zip(scene.boxes, scene.tids) if t != tid]
 
     def propose(self, request: GraspRequest) -> list:
-        fitted = self.fitted(request)
-        return fitted if fitted else self.from_box(request)
+        """Fitted grasps first, then SPEC 3's box grasps (planning tries them in order: the
+        box grasps are the last resort when no fitted one can be planned)."""
+        return self.fitted(request) + self.from_box(request)
 
     def fitted(self, request: GraspRequest) -> list:
         """Grasps fitted to the points, best first ([] without points or when none passes)."""

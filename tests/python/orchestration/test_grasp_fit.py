@@ -133,7 +133,7 @@ def test_check_line_needs_material_on_both_pads_across_their_width():
     assert not check_line(corner, np.zeros((0, 3)), -0.004, 0.02, lim).ok
 
 
-def test_the_source_falls_back_to_the_box_grasps_without_points():
+def test_the_source_proposes_fitted_grasps_with_points_and_none_without_a_box_grasp():
     cube = block(0.50, 0.54, 0.00, 0.04, 0.0, 0.04)
     src = GeometricGraspSource(GRASP, HAND, CFG)
     req = GraspRequest((0.52, 0.02), track_of(0, cube), None, PerceivedScene(np.zeros((0, 3))), 0.06)
@@ -142,6 +142,7 @@ def test_the_source_falls_back_to_the_box_grasps_without_points():
                        cloud=scene((0, cube), (ENV, table())))
     grasps = src.propose(req)
     assert grasps and abs(grasps[0].width_m - 0.04) < 0.004
+    assert len(grasps) == len(src.fitted(req))  # no plane in the scene: no box grasps after them
     R = np.asarray(grasps[0].R)
     assert np.allclose(R[:, 0], [0, 0, -1]) and abs(np.linalg.det(R) - 1) < 1e-9
 
