@@ -135,7 +135,8 @@ class GeometricGraspSource:
                           tuple(self._neighbour_boxes(request)), self.box_margin_m, self.spheres)
         ranked = rank_lines(lines, self.fit)
         if not ranked:
-            reasons = sorted({ln.reason.split(" (")[0].split(" by ")[0] for ln in lines})
+            reasons = sorted({ln.reason.split(" (")[0].split(" by ")[0] if ln.reason else
+                              "too far from the centroid" for ln in lines})
             log.info("no closing line of #%d passes the point checks (%d tried: %s); box grasps",
                      request.target.tid, len(lines), "; ".join(reasons) or "no points of it")
             return []
