@@ -264,7 +264,9 @@ def _heights(track, own: np.ndarray, hand: HandClearances, grasp_cfg: GraspConfi
     """Contact heights to try: SPEC 3 / ours for the whole height; for an object whose lowest
     visible point is high (lying on something), centred between that point and its top; and
     just above each lower step of its top surface (the upper part alone: a box on a box seen
-    as one cluster), where the pads still overlap the part above by ``min_pad_overlap_m``."""
+    as one cluster), where the pads still overlap the part above by ``min_pad_overlap_m`` —
+    never so low that the palm meets the object's top (a mug's inside, a bottle's shoulder are
+    steps too)."""
     from .grasp_source import contact_height_m
 
     height = float(track.smoothed.height_m)
@@ -272,9 +274,10 @@ def _heights(track, own: np.ndarray, hand: HandClearances, grasp_cfg: GraspConfi
     bottom = float(own[:, 2].min())
     if bottom > band_m + cfg.support_gap_m:
         out.append(contact_height_m(height - bottom, hand, grasp_cfg) + bottom)
+    palm_over_top = height + grasp_cfg.palm_clearance_m - hand.palm_above_tcp_m
     for level in surface_levels(own, cfg.footprint_cell_m, cfg.level_gap_m):
-        ch = level + grasp_cfg.table_clearance_m + hand.pad_below_tcp_m
-        if ch <= height + hand.pad_below_tcp_m - cfg.min_pad_overlap_m:
+        ch = max(level + grasp_cfg.table_clearance_m + hand.pad_below_tcp_m, palm_over_top)
+        if ch <= height + hand.pad_below_tcp_m - cfg.min_pad_overlap_m and ch not in out:
             out.append(ch)
     return out
 

@@ -156,3 +156,15 @@ def test_a_stack_seen_as_one_cluster_is_grasped_by_its_upper_box():
     best = ranked[0]
     assert abs(best.width_m - 0.03) < 0.004, best
     assert best.position[2] - HAND.pad_below_tcp_m > 0.028  # pads above the lower box
+
+
+def test_a_step_never_brings_the_palm_onto_the_object():
+    # a bottle: a 60 mm wide body 100 mm tall, a 25 mm neck up to 150 mm (the shoulder is a step)
+    body = block(0.47, 0.53, -0.03, 0.03, 0.0, 0.10)
+    neck = block(0.4875, 0.5125, -0.0125, 0.0125, 0.10, 0.15)
+    bottle = np.vstack([neck, body[~((np.abs(body[:, 0] - 0.5) < 0.0125) & (np.abs(body[:, 1]) < 0.0125)
+                                     & (body[:, 2] >= 0.1))]])
+    lines, _ = _fit(track_of(0, bottle), scene((0, bottle), (ENV, table())))
+    assert any(ln.ok for ln in lines)
+    palm_bottom = min(ln.position[2] for ln in lines if ln.ok) + HAND.palm_above_tcp_m
+    assert palm_bottom >= 0.15 + GRASP.palm_clearance_m - 1e-9
