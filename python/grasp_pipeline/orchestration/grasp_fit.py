@@ -31,8 +31,9 @@ above the table):
   environment above the table band (the table itself is the plane the contact height keeps the
   pads above);
 * **rank**: free lines with a clearance (the horizontal distance from the finger columns to
-  the nearest point) of at least ``clearance_enough_m`` first, then nearest the points'
-  centroid (a grasp far from it lets the object turn in the fingers; lines more than
+  the nearest point) of at least ``clearance_enough_m`` first, then nearest the centroid of
+  the object's area seen from above (:func:`footprint_centroid`; a grasp far from it lets the
+  object turn in the fingers, or closes on a cylinder's chord; lines more than
   ``max_centroid_offset_m`` from it are not offered), then narrowest; at most ``max_candidates``, two lines of one axis at least two steps apart.
 
 The 2.5-D assumption: what is seen from above extends down to what is under it (occluded
@@ -282,6 +283,14 @@ def _heights(track, own: np.ndarray, hand: HandClearances, grasp_cfg: GraspConfi
     return out
 
 
+def footprint_centroid(points: np.ndarray, cell_m: float) -> np.ndarray:
+    """The centroid of the grid cells (x, y) the points occupy, at the points' mean height: the
+    centre of the object's area seen from above. Unlike the points' mean it is not pulled
+    towards the side the camera sees (an oblique view puts many points on the near wall)."""
+    cells = np.unique(np.floor(points[:, :2] / cell_m).astype(np.int64), axis=0)
+    return np.r_[(cells.mean(axis=0) + 0.5) * cell_m, points[:, 2].mean()]
+
+
 def box_samples(boxes, plane_n: np.ndarray, plane_c: float, margin_m: float, step_m: float) -> np.ndarray:
     """(N, 3) points on the top faces of upright ``boxes`` (``OrientedBox``), their footprints
     grown by ``margin_m``: the planner's model of the neighbours, as points (each column from
@@ -314,7 +323,7 @@ def fit_lines(track, cloud: SceneCloud, hand: HandClearances, grasp_cfg: GraspCo
     h_all = lc.heights_m()
     obst_pts = lc.points[~own_mask & ((lc.owner != ENVIRONMENT) | (h_all > lc.band_m))]
     box_pts = box_samples(neighbour_boxes, lc.plane_n, lc.plane_c, box_margin_m, cfg.footprint_cell_m)
-    centroid = lc.points[own_mask].mean(axis=0)
+    centroid = footprint_centroid(lc.points[own_mask], cfg.footprint_cell_m)
     open_max = max_width_m + grasp_cfg.open_margin_m  # the gripper's opening
     lim = LineLimits(hand, grasp_cfg.open_margin_m, min_width_m, open_max - cfg.min_open_margin_m,
                      float(e.height_m), grasp_cfg.palm_clearance_m, cfg, open_max)

@@ -168,3 +168,17 @@ def test_a_step_never_brings_the_palm_onto_the_object():
     assert any(ln.ok for ln in lines)
     palm_bottom = min(ln.position[2] for ln in lines if ln.ok) + HAND.palm_above_tcp_m
     assert palm_bottom >= 0.15 + GRASP.palm_clearance_m - 1e-9
+
+
+def test_an_oblique_view_does_not_pull_the_line_off_a_cylinder_axis():
+    th = np.linspace(0, 2 * np.pi, 240, endpoint=False)
+    top = np.vstack([np.column_stack([0.5 + r * np.cos(th), r * np.sin(th), np.full(th.size, 0.06)])
+                     for r in np.r_[np.arange(0.0, 0.0325, 0.003), 0.0325]])
+    near = th[np.cos(th) < -0.3]  # the wall facing the camera: many points on one side
+    wall = np.vstack([np.column_stack([0.5 + 0.0325 * np.cos(near), 0.0325 * np.sin(near), np.full(near.size, z)])
+                      for z in np.arange(0.0, 0.06, 0.002)])
+    can = np.vstack([top, wall])
+    assert abs(can[:, 0].mean() - 0.5) > 0.008  # the points' mean is pulled to the near wall
+    _, ranked = _fit(track_of(0, can), scene((0, can), (ENV, table())))
+    assert ranked and abs(ranked[0].width_m - 0.065) < 0.003  # the diameter, not a chord
+    assert np.hypot(ranked[0].position[0] - 0.5, ranked[0].position[1]) < 0.004
