@@ -15,7 +15,9 @@ above the table):
   box of a stack that segmentation merged into one cluster is grasped alone);
 * **material**: the object's own points in the pads' strip (``|a - a0| ≤ finger_width / 2``)
   above the pads' lowest point — at least ``min_material_points`` of them; their span along
-  ``c`` is the width to close on (the pads are centred on it), which must fit the opening
+  ``c`` — clipped to the tracked box, whose NADIR measurement bounds the object better than
+  an oblique frame's smeared edges (8–9 mm wider on far objects) — is the width to close on
+  (the pads are centred on it), which must fit the opening
   with at least ``min_open_margin_m`` to spare (the fingers open to width + ``open_margin_m``,
   at most the gripper's opening: a 68 mm mug is grasped with 6 mm to spare on each side);
   at each end the material within ``contact_depth_m`` of it must span at least
@@ -43,7 +45,7 @@ words, next to SPEC 3: ``docs/spec_extensions.md``.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Optional
 
 import numpy as np
@@ -141,6 +143,7 @@ class LineLimits:
     palm_clearance_m: float
     cfg: GraspFitConfig
     max_opening_m: float = 0.08
+    box_half_c: float = np.inf  # half the tracked box's extent along the closing axis
 
     def opening(self, width_m: float) -> float:
         """The fingers' gap while approaching: width + margin, at most the gripper's opening."""
@@ -151,7 +154,9 @@ def _material(own: np.ndarray, a0: float, pad_bottom: float, lim: LineLimits):
     strip = own[(np.abs(own[:, 1] - a0) <= 0.5 * lim.hand.finger_width_m) & (own[:, 2] >= pad_bottom)]
     if len(strip) < lim.cfg.min_material_points:
         return None, f"no material between the pads ({len(strip)} points)"
-    lo, hi = float(strip[:, 0].min()), float(strip[:, 0].max())
+    bound = lim.box_half_c + lim.cfg.column_tolerance_m  # the measured box bounds the object
+    lo = max(float(strip[:, 0].min()), -bound)
+    hi = min(float(strip[:, 0].max()), bound)
     if hi - lo > lim.max_width_m:
         return None, f"too wide to close on: {(hi - lo) * 1e3:.0f} mm"
     need = lim.cfg.min_contact_fraction * lim.hand.finger_width_m
@@ -329,6 +334,7 @@ def fit_lines(track, cloud: SceneCloud, hand: HandClearances, grasp_cfg: GraspCo
                      float(e.height_m), grasp_cfg.palm_clearance_m, cfg, open_max)
     out = []
     for k, fr in enumerate(_frames(track, lc)):
+        lim = replace(lim, box_half_c=0.5 * float(np.asarray(e.extents)[k]))
         own = _local(fr, lc.points[own_mask], lc)
         obst = _local(fr, obst_pts, lc)
         boxes = _local(fr, box_pts, lc)

@@ -182,3 +182,11 @@ def test_an_oblique_view_does_not_pull_the_line_off_a_cylinder_axis():
     _, ranked = _fit(track_of(0, can), scene((0, can), (ENV, table())))
     assert ranked and abs(ranked[0].width_m - 0.065) < 0.003  # the diameter, not a chord
     assert np.hypot(ranked[0].position[0] - 0.5, ranked[0].position[1]) < 0.004
+
+
+def test_smeared_edges_of_an_oblique_view_are_clipped_to_the_measured_box():
+    cube = block(0.50, 0.54, 0.00, 0.04, 0.0, 0.04)
+    smear = np.column_stack([np.full(30, 0.548), np.linspace(0.005, 0.035, 30), np.full(30, 0.03)])
+    track = track_of(0, cube)  # the box measured from above: 40 mm
+    _, ranked = _fit(track, scene((0, np.vstack([cube, smear])), (ENV, table())))
+    assert ranked and all(abs(ln.width_m - 0.04) < 0.0025 for ln in ranked if ln.axis == 0)
