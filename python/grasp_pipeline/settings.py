@@ -36,6 +36,7 @@ SECTIONS: Mapping[str, tuple[str, str]] = MappingProxyType({
     "scan": ("grasp_pipeline.orchestration.config", "ScanConfig"),
     "grasp": ("grasp_pipeline.orchestration.config", "GraspConfig"),
     "declutter": ("grasp_pipeline.orchestration.config", "DeclutterConfig"),
+    "grasp_fit": ("grasp_pipeline.orchestration.config", "GraspFitConfig"),
     "video": ("grasp_pipeline.report.config", "VideoConfig"),
     "language": ("grasp_pipeline.language.config", "LanguageConfig"),
     "rerun": ("grasp_pipeline.report.config", "RerunConfig"),

@@ -100,7 +100,8 @@ def _targets(system: System, settings: Settings, report: RunReport, select, roug
     if select:
         return list(select)
     targets, report.targets_skipped = default_targets(
-        system.loop.tracks(), system.cell, settings.grasp.target_fixture_margin_m, rough_tids)
+        system.loop.tracks(), system.cell, settings.grasp.target_fixture_margin_m, rough_tids,
+        system.loop.judge)
     for s in report.targets_skipped:
         log.info("not picking track #%d at (%.3f, %.3f): %s", s["tid"], *s["center"], s["why"])
     return targets
@@ -219,7 +220,7 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
         if prepare is not None:  # after the built-in recorders: the pick evaluation comes first
             prepare(system)
         _stages(system, settings, report, recorders[0], select, scan, place,
-                grasp_source or GeometricGraspSource(settings.grasp), declutter, pick)
+                grasp_source or default_grasp_source(settings), declutter, pick)
         report.status = STATUS_FAILED if report.error else STATUS_COMPLETE
     except KeyboardInterrupt:
         system.world.hold()
@@ -234,13 +235,23 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
         report.status, report.error = STATUS_FAILED, f"internal error {type(exc).__name__}: {exc}"
         raise
     finally:
-        sim_s = float(system.world.time_s)
-        _close(system, report, recorders)
-        report.timings["wall_s"] = time.perf_counter() - wall0
-        _real_time(report, "run", sim_s, report.timings["wall_s"])
-        if json_path is not None:
-            write_json(json_path, report)
+        _finish(system, report, recorders, wall0, json_path)
     return report
+
+
+def default_grasp_source(settings: Settings) -> GraspSource:
+    """The geometric grasp (SPEC 3, fitted to the perceived points: ``grasp_fit``)."""
+    return GeometricGraspSource(settings.grasp, fit=settings.grasp_fit, motion=settings.motion)
+
+
+def _finish(system: System, report: RunReport, recorders, wall0: float, json_path) -> None:
+    """Close the recorders and the world, add the run's timings, write the report."""
+    sim_s = float(system.world.time_s)
+    _close(system, report, recorders)
+    report.timings["wall_s"] = time.perf_counter() - wall0
+    _real_time(report, "run", sim_s, report.timings["wall_s"])
+    if json_path is not None:
+        write_json(json_path, report)
 
 
 def _close(system: System, report: RunReport, recorders) -> None:

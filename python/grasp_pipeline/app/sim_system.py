@@ -20,7 +20,7 @@ from ..sim.world import SimWorld
 
 #: The parameter sets a simulated run uses.
 SECTIONS = ("scene_filter", "obb", "camera", "sim", "clutter", "motion", "scan", "grasp",
-            "declutter", "video", "language", "rerun")
+            "grasp_fit", "declutter", "video", "language", "rerun")
 
 
 @dataclass
@@ -75,7 +75,7 @@ def build_system(spec, settings: Settings, events: EventBus | None = None) -> Sy
     try:
         session = PerceptionSession(settings.scene_filter, settings.obb)
         loop = PerceptionLoop(session, settings.scan, ready_camera_pose=world.camera_pose(),
-                              events=events, camera=world)
+                              events=events, camera=world, fit_config=settings.grasp_fit)
         world.add_frame_listener(lambda f: loop.on_frame(f, world.q))
         rt = Runtime(world, events)
         cell = world.work_cell

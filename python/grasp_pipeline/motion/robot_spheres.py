@@ -263,3 +263,30 @@ class RobotSpheres:
             names[self.model.body(int(b)).name] = int(np.sum(self.spheres.body == b))
         return (f"{len(self.spheres.radius)} spheres {names}; {len(self.pair_i)} self-collision pairs; "
                 f"disabled default pairs {sorted(set(self.disabled_default))}")
+
+
+def hand_spheres_in_tcp(model: mujoco.MjModel, cell_m: float, finger_opening_m: float
+                        ) -> tuple[np.ndarray, np.ndarray]:
+    """The planner's spheres of the hand and the fingers (opened to ``finger_opening_m``),
+    in the TCP frame (x across the closing axis, y the closing axis, z the approach, into the
+    object): centres (S, 3) and radii (S,). What a grasp's final approach must keep clear."""
+    hand = model.body(rm.HAND_BODY).id
+    spheres = fit_spheres(model, cell_m)
+    data = mujoco.MjData(model)
+    for name in rm.FINGER_JOINT_NAMES:
+        j = model.joint(name)
+        lo, hi = model.jnt_range[j.id]
+        data.qpos[j.qposadr[0]] = float(np.clip(0.5 * finger_opening_m, lo, hi))
+    mujoco.mj_kinematics(model, data)
+    R_h, p_h = data.xmat[hand].reshape(3, 3), data.xpos[hand]
+    site = model.site(rm.TCP_SITE).id
+    R_t = R_h.T @ data.site_xmat[site].reshape(3, 3)
+    p_t = R_h.T @ (data.site_xpos[site] - p_h)
+    keep = [k for k, b in enumerate(spheres.body)
+            if int(b) == hand or int(model.body_parentid[int(b)]) == hand]
+    out = []
+    for k in keep:
+        b = int(spheres.body[k])
+        c_world = data.xmat[b].reshape(3, 3) @ spheres.center_local[k] + data.xpos[b]
+        out.append(R_t.T @ (R_h.T @ (c_world - p_h) - p_t))
+    return np.array(out).reshape(-1, 3), spheres.radius[keep].copy()

@@ -102,3 +102,38 @@ class DeclutterConfig:
         if self.order not in ("accessibility", "nearest"):
             raise ConfigError(f"DeclutterConfig.order = {self.order!r}: expected 'accessibility' "
                               "or 'nearest'")
+
+
+@dataclass(frozen=True)
+class GraspFitConfig:
+    """Grasps fitted to the perceived points and the support rule (ours; extends SPEC 2.6 and
+    3, see ``docs/spec_extensions.md``)."""
+
+    cloud_voxel_m: float = 0.003
+    support_gap_m: float = 0.015
+    support_ring_m: float = 0.015
+    see_through_fraction: float = 0.5
+    footprint_cell_m: float = 0.005
+    line_step_m: float = 0.006
+    min_material_points: int = 4
+    blocked_points: int = 2
+    column_tolerance_m: float = 0.002
+    clearance_enough_m: float = 0.008
+    max_candidates: int = 4
+    min_pad_overlap_m: float = 0.012
+    contact_depth_m: float = 0.005
+    min_contact_fraction: float = 0.5
+    max_centroid_offset_m: float = 0.02
+    min_open_margin_m: float = 0.008
+    level_gap_m: float = 0.01
+
+    def validate(self) -> None:
+        _positive(self, "cloud_voxel_m", "support_gap_m", "footprint_cell_m", "line_step_m",
+                  "min_material_points", "max_candidates")
+        _positive(self, "support_ring_m", "blocked_points", "column_tolerance_m",
+                  "clearance_enough_m", "min_pad_overlap_m", allow_zero=True)
+        _positive(self, "contact_depth_m", "max_centroid_offset_m", "min_open_margin_m",
+                  "level_gap_m")
+        for name in ("see_through_fraction", "min_contact_fraction"):
+            if not 0 < getattr(self, name) <= 1:
+                raise ConfigError(f"GraspFitConfig.{name}: expected (0, 1]")

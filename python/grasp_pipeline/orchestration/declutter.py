@@ -25,8 +25,9 @@ from ..robot.description import hand_clearances
 from .accessibility import rank_by_accessibility
 from .config import DeclutterConfig
 from .events import StageEvent
-from .pick import PickContext, pick_object, return_to_start
+from .pick import PickContext, grasp_request, pick_object, return_to_start
 from .targets import default_targets
+from .tracks import nearest_track
 
 log = logging.getLogger("grasp_pipeline.declutter")
 
@@ -66,13 +67,27 @@ def look_again(ctx: PickContext) -> set:
     return {int(t.tid) for t in ctx.loop.tracks()}
 
 
+def has_fitted_grasp(ctx: PickContext, xy) -> bool:
+    """True when the grasp source fits a grasp to the points of the object at ``xy``
+    (:mod:`.grasp_fit`); also True for a source that fits none (nothing to judge by)."""
+    fitted = getattr(ctx.source, "fitted", None)
+    if fitted is None:
+        return True
+    track, _ = nearest_track(ctx.loop.tracks(), xy)
+    return track is not None and bool(fitted(grasp_request(ctx, xy, track)))
+
+
 def choose_order(ctx: PickContext, targets: list, failed_anchors: list, config: DeclutterConfig) -> list:
-    """The round's target order: by accessibility (or nearest first), failed places last."""
+    """The round's target order: by accessibility (or nearest first), objects without a grasp
+    fitted to their points after those with one (another object first: picking it may free
+    them), failed places last."""
     if config.order == "accessibility":
         s = ctx.settings
         targets = rank_by_accessibility(targets, ctx.loop.tracks(), hand_clearances(),
                                         s.grasp.open_margin_m, s.obb.gripper_open - s.grasp.open_margin_m,
                                         config.free_space_enough_m)
+    fits = [has_fitted_grasp(ctx, t) for t in targets]
+    targets = [t for t, f in zip(targets, fits) if f] + [t for t, f in zip(targets, fits) if not f]
     return order_targets(targets, failed_anchors, config.failed_anchor_radius_m)
 
 
@@ -93,7 +108,8 @@ def clear_table(ctx: PickContext, cell, rough_tids: set, config: DeclutterConfig
     out, failed_anchors, consecutive = DeclutterOutcome(), [], 0
     margin = ctx.settings.grasp.target_fixture_margin_m
     while True:
-        targets, out.skipped = default_targets(ctx.loop.tracks(), cell, margin, rough_tids)
+        targets, out.skipped = default_targets(ctx.loop.tracks(), cell, margin, rough_tids,
+                                               ctx.loop.judge)
         targets = choose_order(ctx, targets, failed_anchors, config)
         if not targets:
             out.end_reason = END_NO_TARGET

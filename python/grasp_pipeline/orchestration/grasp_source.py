@@ -6,14 +6,18 @@ contact point, rotation column 0 = approach into the object, column 2 = closing 
 produced them, so a learned grasp detector replaces the geometric one by implementing
 :meth:`GraspSource.propose` — nothing in motion or execution changes.
 
-* :class:`GeometricGraspSource` — SPEC 3's top-down grasp from the target's box (the grasp
-  the selection publishes every frame), then closing across the other side when it fits;
-  both at a contact height that fits the hand (:func:`contact_height_m`, ours).
+* :class:`GeometricGraspSource` — with the scene's points (``GraspRequest.cloud``): top-down
+  grasps fitted to the points first (:mod:`.grasp_fit`: material between the pads, both
+  fingers' descent free, the opening fits; ranked by clearance), ours. Then, as the last
+  resort: SPEC 3's top-down grasp from the target's box (the grasp the selection publishes
+  every frame), then closing across the other side when it fits; both at a contact height
+  that fits the hand (:func:`contact_height_m`, ours).
 * :class:`FixedGraspSource` — a fixed list of poses (known grasps, a replay, a test).
 """
 
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass
 from typing import Optional, Protocol, Sequence, runtime_checkable
 
@@ -21,9 +25,14 @@ import numpy as np
 
 from .. import _core
 from ..motion.perceived_scene import PerceivedScene
-from ..robot.description import HandClearances, hand_clearances
-from .config import GraspConfig
+from ..motion.robot_spheres import hand_spheres_in_tcp
+from ..robot.description import GRIPPER_MAX_WIDTH_M, HandClearances, hand_clearances, load_robot_model
+from .config import GraspConfig, GraspFitConfig
+from .grasp_fit import HandSpheres, fit_lines, rank_lines
+from .scene_cloud import SceneCloud
 from .selection import perpendicular_grasp
+
+log = logging.getLogger("grasp_pipeline.grasp")
 
 
 @dataclass(frozen=True)
@@ -33,13 +42,17 @@ class GraspRequest:
     ``anchor_xy``: where the user (or the default target list) pointed [m, world];
     ``target``: the selected track (``_core.Track``) or None; ``published``: the best grasp
     the selection published for it (SPEC 5) or None; ``scene``: the perceived scene (points,
-    boxes); ``max_width_m``: the widest object the gripper can close on with its margin."""
+    boxes); ``max_width_m``: the widest object the gripper can close on with its margin;
+    ``cloud``: the scene's labelled points (:class:`~.scene_cloud.SceneCloud`) or None;
+    ``min_width_m``: the narrowest graspable width."""
 
     anchor_xy: tuple[float, float]
     target: Optional[object]
     published: Optional[object]
     scene: PerceivedScene
     max_width_m: float
+    cloud: Optional[SceneCloud] = None
+    min_width_m: float = 0.005
 
 
 @runtime_checkable
@@ -50,6 +63,15 @@ class GraspSource(Protocol):
 
     def propose(self, request: GraspRequest) -> list:
         """``_core.BestGrasp`` candidates, best first."""
+
+
+def planner_hand_spheres(cell_m: float) -> HandSpheres:
+    """The motion planner's hand and finger spheres (cell ``cell_m``) in the TCP frame, with
+    the fingers' shift per metre of opening."""
+    model = load_robot_model()
+    c0, r = hand_spheres_in_tcp(model, cell_m, 0.0)
+    c1, _ = hand_spheres_in_tcp(model, cell_m, GRIPPER_MAX_WIDTH_M)
+    return HandSpheres(c0, (c1 - c0) / GRIPPER_MAX_WIDTH_M, r)
 
 
 def contact_height_m(height_m: float, hand: HandClearances, config: GraspConfig) -> float:
@@ -74,19 +96,60 @@ def at_contact_height(grasp, plane, height_m: float, hand: HandClearances, confi
 
 
 class GeometricGraspSource:
-    """The published SPEC 3 grasp, then the perpendicular one when that side fits, each at a
-    contact height that fits the hand (:func:`contact_height_m`).
+    """Grasps fitted to the points when the request has them (:mod:`.grasp_fit`), then the
+    published SPEC 3 grasp and the perpendicular one when that side fits, each at a contact
+    height that fits the hand (:func:`contact_height_m`).
 
-    ``config``: the grasp parameters (clearances); ``hand``: the hand's extent around the TCP
-    (default: read from the robot model)."""
+    ``config``: the grasp parameters (clearances); ``fit``: the point checks' parameters;
+    ``hand``: the hand's extent around the TCP (default: read from the robot model);
+    ``motion``: the planner's collision model (``MotionConfig``: sphere cell, margin) — with
+    it a fitted grasp also clears the neighbours as the planner models them (boxes, hand
+    spheres); None: only the points are checked."""
 
     name = "geometric"
 
-    def __init__(self, config: Optional[GraspConfig] = None, hand: Optional[HandClearances] = None):
+    def __init__(self, config: Optional[GraspConfig] = None, hand: Optional[HandClearances] = None,
+                 fit: Optional[GraspFitConfig] = None, motion=None):
         self.config = config or GraspConfig()
         self.hand = hand or hand_clearances()
+        self.fit = fit or GraspFitConfig()
+        self.box_margin_m = 0.0 if motion is None else float(motion.collision_margin_m)
+        self.spheres = None if motion is None else planner_hand_spheres(motion.sphere_cell_m)
+
+    def _neighbour_boxes(self, request: GraspRequest) -> list:
+        tid = int(request.target.tid)
+        scene = request.scene.without_fragments(tid, self.config.fragment_margin_m)
+        return [b for b, t in zip(scene.boxes, scene.tids) if t != tid]
 
     def propose(self, request: GraspRequest) -> list:
+        """Fitted grasps first, then SPEC 3's box grasps (planning tries them in order: the
+        box grasps are the last resort when no fitted one can be planned)."""
+        return self.fitted(request) + self.from_box(request)
+
+    def fitted(self, request: GraspRequest) -> list:
+        """Grasps fitted to the points, best first ([] without points or when none passes)."""
+        if request.cloud is None or request.target is None or len(request.cloud) == 0:
+            return []
+        lines = fit_lines(request.target, request.cloud, self.hand, self.config, self.fit,
+                          request.min_width_m, request.max_width_m,
+                          tuple(self._neighbour_boxes(request)), self.box_margin_m, self.spheres)
+        ranked = rank_lines(lines, self.fit)
+        if not ranked:
+            reasons = sorted({ln.reason.split(" (")[0].split(" by ")[0] if ln.reason else
+                              "too far from the centroid" for ln in lines})
+            log.info("no closing line of #%d passes the point checks (%d tried: %s); box grasps",
+                     request.target.tid, len(lines), "; ".join(reasons) or "no points of it")
+            return []
+        best = ranked[0]
+        log.info("#%d: %d of %d closing lines pass the point checks; best: axis %d, %.0f mm off the "
+                 "centroid, width %.1f mm, clearance %.1f mm", request.target.tid,
+                 sum(ln.ok for ln in lines), len(lines), best.axis, best.centroid_offset_m * 1e3,
+                 best.width_m * 1e3, min(best.clearance_m, 1.0) * 1e3)
+        n = request.cloud.plane_n
+        return [ln.grasp(n) for ln in ranked]
+
+    def from_box(self, request: GraspRequest) -> list:
+        """SPEC 3's box grasp and the perpendicular one, at :func:`contact_height_m`."""
         out = [] if request.published is None else [request.published]
         plane = request.scene.plane
         if request.target is not None and plane is not None:

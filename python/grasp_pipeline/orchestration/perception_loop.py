@@ -35,9 +35,11 @@ import numpy as np
 
 from .. import _core
 from ..perception import FrameResult, PerceptionSession
-from .config import ScanConfig
+from .config import GraspFitConfig, ScanConfig
 from .events import EventBus, FrameEvent, PerceptionEvent
+from .scene_cloud import SceneCloud, cloud_from_frame
 from .selection import Selector, SelectResult
+from .support import judge_graspable
 from .tracks import nearest_track
 
 log = logging.getLogger("grasp_pipeline.perception_loop")
@@ -58,15 +60,19 @@ class PerceptionLoop:
 
     def __init__(self, session: PerceptionSession, scan_config: ScanConfig | None = None,
                  ready_camera_pose: Optional[np.ndarray] = None,
-                 events: Optional[EventBus] = None, camera=None) -> None:
+                 events: Optional[EventBus] = None, camera=None,
+                 fit_config: Optional[GraspFitConfig] = None) -> None:
         """``camera``: the robot's camera (its ``looking_time_s`` clocks liveness); None:
-        liveness on the frames' simulated time."""
+        liveness on the frames' simulated time. ``fit_config``: the scene cloud's voxel and
+        the support rule (:mod:`.support`) that judges which objects are graspable."""
         self.session = session
         self.camera = camera
         self._looked_at_frame_s: Optional[float] = None  # looking clock at the latest frame
         self.events = events if events is not None else EventBus()
         self.config = scan_config or ScanConfig()
-        self.selector = Selector(fallback_limit_m=self.config.select_max_distance_m)
+        self.fit_config = fit_config or GraspFitConfig()
+        self.selector = Selector(fallback_limit_m=self.config.select_max_distance_m, judge=self.judge)
+        self._cloud: Optional[tuple[int, Optional[SceneCloud]]] = None  # (frame count, cloud)
         self.latest: Optional[FrameInfo] = None
         self.frames = 0
         # The camera pose of the start-up ("ready") pose, recorded once: from the robot's
@@ -122,6 +128,27 @@ class PerceptionLoop:
     def tracks(self) -> list:
         return self.session.tracks()
 
+    def scene_cloud(self) -> Optional[SceneCloud]:
+        """The latest frame's points with their owners (track / environment), thinned on the
+        ``fit_config.cloud_voxel_m`` grid; None before a frame with a locked plane. Built on
+        demand, once per frame."""
+        if self._cloud is not None and self._cloud[0] == self.frames:
+            return self._cloud[1]
+        cloud = None
+        if self.latest is not None and self.plane is not None:
+            cloud = cloud_from_frame(self.latest.result, self.plane, self.band_m,
+                                     self.fit_config.cloud_voxel_m)
+        self._cloud = (self.frames, cloud)
+        return cloud
+
+    def judge(self, track) -> tuple[bool, list]:
+        """(graspable, notes) of a track: SPEC 2.6's guards with the support rule on the
+        latest scene cloud (:func:`~.support.judge_graspable`)."""
+        e = track.smoothed
+        if e.grasp_ok or e.resting or not (e.height_ok and e.width_ok):
+            return bool(e.grasp_ok), list(e.notes)
+        return judge_graspable(track, self.scene_cloud(), self.fit_config)
+
     def forget_tracks(self) -> None:
         """Forget every track but keep the plane lock and the liveness state: the next
         frames describe the table anew (after a pick attempt the objects may have moved).
@@ -165,6 +192,7 @@ class PerceptionLoop:
     # ---- selection ----------------------------------------------------------------
     def select(self, x: float, y: float) -> SelectResult:
         return self.selector.select(x, y, self.tracks(), self.gate_m, self.plane)
+
 
     def nearest_track(self, xy: np.ndarray, within_gate: bool = True):
         """Track nearest to a horizontal position (within the gate when one is defined)."""

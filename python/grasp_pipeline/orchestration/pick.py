@@ -57,7 +57,7 @@ def _reprobe_centre(ctx: PickContext, xy) -> Optional[np.ndarray]:
     """Where to look from above before picking at ``xy`` (None: the track is NADIR)."""
     loop = ctx.loop
     chk = check_selection(float(xy[0]), float(xy[1]), loop.tracks(), loop.gate_m, loop.plane,
-                          loop.selector.fallback_limit_m)
+                          loop.selector.fallback_limit_m, loop.selector.judge)
     track = None if chk.kind in ("far", "nothing") else chk.track
     if track is not None and track.quality == _core.ViewQuality.NADIR:
         return None
@@ -104,14 +104,20 @@ def _select_and_verify(ctx: PickContext, xy, row: PickResult):
     return sel
 
 
-def _candidates(ctx: PickContext, xy, sel) -> list:
+def grasp_request(ctx: PickContext, xy, target) -> GraspRequest:
+    """What the grasp source gets for the object ``target`` (a track) at ``xy``: the latest
+    published grasp, the perceived scene and the scene's labelled points."""
     loop, s = ctx.loop, ctx.settings
-    target = next((t for t in loop.tracks() if t.tid == sel.tid), None)
-    req = GraspRequest(anchor_xy=(float(xy[0]), float(xy[1])), target=target,
-                       published=loop.selector.best_grasp,
-                       scene=snapshot(loop, exclude_tids=ctx.action.lingering_tids()),
-                       max_width_m=s.obb.gripper_open - s.grasp.open_margin_m)
-    return list(ctx.source.propose(req))
+    return GraspRequest(anchor_xy=(float(xy[0]), float(xy[1])), target=target,
+                        published=loop.selector.best_grasp,
+                        scene=snapshot(loop, exclude_tids=ctx.action.lingering_tids()),
+                        max_width_m=s.obb.gripper_open - s.grasp.open_margin_m,
+                        cloud=loop.scene_cloud(), min_width_m=s.obb.min_graspable_width)
+
+
+def _candidates(ctx: PickContext, xy, sel) -> list:
+    target = next((t for t in ctx.loop.tracks() if t.tid == sel.tid), None)
+    return list(ctx.source.propose(grasp_request(ctx, xy, target)))
 
 
 def _run_action(ctx: PickContext, xy, sel, row: PickResult):

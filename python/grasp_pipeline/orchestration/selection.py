@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass, field
-from typing import Optional, Sequence
+from typing import Callable, Optional, Sequence
 
 import numpy as np
 
@@ -45,13 +45,26 @@ class _Check:
     clears: bool = False  # a construction failure clears the selection
 
 
+#: ``judge(track) -> (graspable, notes)``: the grasp guards of a track (default: SPEC 2.6's
+#: ``grasp_ok`` and notes; the perception loop's judge adds the support rule, :mod:`.support`).
+Judge = Callable[[object], tuple[bool, list]]
+
+
+def spec_judge(track) -> tuple[bool, list]:
+    """SPEC 2.6's verdict of the track's smoothed estimate."""
+    est = track.smoothed
+    return bool(est.grasp_ok), list(est.notes)
+
+
 def check_selection(x: float, y: float, tracks: Sequence["_core.Track"], gate_m: Optional[float],
-                    plane: Optional["_core.Plane"], fallback_limit_m: Optional[float] = None) -> _Check:
+                    plane: Optional["_core.Plane"], fallback_limit_m: Optional[float] = None,
+                    judge: Optional[Judge] = None) -> _Check:
     """The checks of SPEC 5 for a point (x, y), in order.
 
     The distance limit is 2 × gate; when the gate is undefined (fewer than two objects in
     the last frame) SPEC sets no limit — here ``fallback_limit_m`` applies instead (ours:
-    a click far from the only object must not select it)."""
+    a click far from the only object must not select it). ``judge``: the guards (default
+    :func:`spec_judge`)."""
     if not tracks or plane is None:
         return _Check(None, None, "nothing seen yet", "nothing")
     track, dist = nearest_track(tracks, (x, y))
@@ -60,8 +73,8 @@ def check_selection(x: float, y: float, tracks: Sequence["_core.Track"], gate_m:
         return _Check(None, track, f"no object near ({x:.3f}, {y:.3f}): {dist * 1e3:.0f} mm away, "
                                    f"limit {limit * 1e3:.0f} mm", "far")
     est = track.smoothed
-    if not est.grasp_ok:
-        notes = [n for n in est.notes]
+    ok, notes = (judge or spec_judge)(track)
+    if not ok:
         return _Check(None, track, " | ".join(notes) if notes else NO_NOTES_PLACEHOLDER, "guards")
     grasp = _core.best_grasp_from_estimate(est, plane)
     if grasp is None:
@@ -97,6 +110,7 @@ class Selector:
     """Holds the anchor and publishes best grasps (SPEC 5)."""
 
     fallback_limit_m: Optional[float] = None  # distance limit while the gate is undefined
+    judge: Optional[Judge] = None  # the grasp guards of a track (None: SPEC 2.6's)
     anchor: Optional[tuple[float, float]] = None
     best_grasp: Optional["_core.BestGrasp"] = None
     best_grasp_time_s: Optional[float] = None
@@ -108,7 +122,7 @@ class Selector:
         """Anchor a selection at (x, y) [m, world]; see the module doc for refusals."""
         if not (np.isfinite(x) and np.isfinite(y)):
             return SelectResult(False, f"select: x and y must be finite numbers, got ({x}, {y})")
-        chk = check_selection(x, y, tracks, gate_m, plane, self.fallback_limit_m)
+        chk = check_selection(x, y, tracks, gate_m, plane, self.fallback_limit_m, self.judge)
         if chk.reason:
             if chk.clears:
                 self.clear()
@@ -136,7 +150,7 @@ class Selector:
         if self.anchor is None:
             return None
         chk = check_selection(self.anchor[0], self.anchor[1], tracks, gate_m, plane,
-                              self.fallback_limit_m)
+                              self.fallback_limit_m, self.judge)
         if chk.reason:
             if chk.kind not in self._warned:
                 self._warned.add(chk.kind)

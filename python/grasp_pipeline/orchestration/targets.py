@@ -14,14 +14,16 @@ from .. import _core
 from ..motion.work_cell import WorkCell
 
 
-def _skip_reason(track, cell: WorkCell, fixture_margin_m: float, rough_tids: set) -> str | None:
+def _skip_reason(track, cell: WorkCell, fixture_margin_m: float, rough_tids: set,
+                 judge=None) -> str | None:
     c = np.asarray(track.smoothed.center[:2], float)
     note = cell.pick_target_note(c, fixture_margin_m)
     if note is None and track.tid not in rough_tids and track.quality != _core.ViewQuality.NADIR:
         note = (f"#{track.tid} was first seen during the scan ({track.quality.name.lower()} view) "
                 "and never measured from above")
-    if note is None and not track.smoothed.grasp_ok:
-        note = "; ".join(track.smoothed.notes) or "grasp checks failed"
+    if note is None:
+        ok, notes = judge(track) if judge is not None else (track.smoothed.grasp_ok, track.smoothed.notes)
+        note = None if ok else ("; ".join(notes) or "grasp checks failed")
     return note
 
 
@@ -45,14 +47,15 @@ def rough_view_ids(rough_centers: dict[int, tuple[float, float]], tracks,
 
 
 def default_targets(tracks, cell: WorkCell, fixture_margin_m: float,
-                    rough_tids: set) -> tuple[list[tuple[float, float]], list[dict]]:
+                    rough_tids: set, judge=None) -> tuple[list[tuple[float, float]], list[dict]]:
     """(targets (x, y) nearest the base first, skipped tracks with ``tid``/``center``/``why``).
 
-    ``rough_tids``: the tracks of the rough view (the objects the scan set out to measure)."""
+    ``rough_tids``: the tracks of the rough view (the objects the scan set out to measure);
+    ``judge(track) -> (graspable, notes)``: the grasp guards (default: SPEC 2.6's)."""
     targets, skipped = [], []
     for t in tracks:
         c = np.asarray(t.smoothed.center[:2], float)
-        note = _skip_reason(t, cell, fixture_margin_m, rough_tids)
+        note = _skip_reason(t, cell, fixture_margin_m, rough_tids, judge)
         if note is None:
             targets.append(c)
         else:

@@ -8,6 +8,7 @@ import pytest
 from grasp_pipeline import _core
 from grasp_pipeline.orchestration import declutter
 from grasp_pipeline.orchestration.config import DeclutterConfig
+from grasp_pipeline.orchestration.selection import spec_judge
 from grasp_pipeline.results import PickResult
 
 
@@ -31,8 +32,10 @@ def test_targets_near_a_failed_anchor_go_last():
 def fake(monkeypatch):
     """A context whose table holds ``state['objects']``; a pick succeeds per ``state['plan']``."""
     state = {"objects": [(0.40, 0.0), (0.50, 0.0), (0.60, 0.0)], "plan": [], "looks": 0}
-    loop = SimpleNamespace(tracks=lambda: [_track(i, *xy) for i, xy in enumerate(state["objects"])])
-    ctx = SimpleNamespace(loop=loop, settings=SimpleNamespace(grasp=SimpleNamespace(target_fixture_margin_m=0.03)))
+    loop = SimpleNamespace(tracks=lambda: [_track(i, *xy) for i, xy in enumerate(state["objects"])],
+                           judge=spec_judge)
+    ctx = SimpleNamespace(loop=loop, settings=SimpleNamespace(grasp=SimpleNamespace(target_fixture_margin_m=0.03)),
+                          source=SimpleNamespace(name="fake"))  # fits no points: every target counts
 
     def pick(_ctx, xy):
         ok = state["plan"].pop(0)
@@ -72,3 +75,10 @@ def test_attempt_limit(fake):
     state["plan"] = [False, True, False, True]
     out = declutter.clear_table(ctx, _Cell(), {0, 1, 2}, DeclutterConfig(max_attempts=3, order="nearest"))
     assert len(out.attempts) == 3 and out.end_reason.startswith(declutter.END_ATTEMPTS)
+
+
+def test_objects_without_a_fitted_grasp_go_after_the_others(monkeypatch):
+    monkeypatch.setattr(declutter, "has_fitted_grasp", lambda ctx, xy: xy != (0.40, 0.0))
+    cfg = DeclutterConfig(order="nearest")
+    out = declutter.choose_order(None, [(0.40, 0.0), (0.45, 0.0), (0.50, 0.1)], [(0.50, 0.1)], cfg)
+    assert out == [(0.45, 0.0), (0.40, 0.0), (0.50, 0.1)]  # no fit: after; failed place: last

@@ -1,0 +1,366 @@
+"""Top-down grasps fitted to the perceived points, not only to the box (ours; extends SPEC 3).
+
+SPEC 3 closes across the box's narrow side through the box centre. For an L, T or cross block,
+a prism or a mug the box centre may lie beside the material, and in clutter a finger's path may
+be taken by a neighbour although the box model of the scene says otherwise. Here every
+candidate *closing line* is checked on the points of the scene (:class:`~.scene_cloud.SceneCloud`,
+world frame), in the line's own frame (``c`` along the closing axis, ``a`` across it, ``h``
+above the table):
+
+* **lines**: both box axes as closing axis; on each, lines every ``line_step_m`` across the
+  object (contact points shifted along the box), plus the line through the points' centroid;
+  at the contact height of :func:`~.grasp_source.contact_height_m` and, for an object whose
+  lowest visible point is high (lying on another), also half-way between that point and its
+  top, and just above each lower step of its top surface (:func:`surface_levels`: the upper
+  box of a stack that segmentation merged into one cluster is grasped alone);
+* **material**: the object's own points in the pads' strip (``|a - a0| ≤ finger_width / 2``)
+  above the pads' lowest point — at least ``min_material_points`` of them; their span along
+  ``c`` — clipped to the tracked box, whose NADIR measurement bounds the object better than
+  an oblique frame's smeared edges (8–9 mm wider on far objects) — is the width to close on
+  (the pads are centred on it), which must fit the opening
+  with at least ``min_open_margin_m`` to spare (the fingers open to width + ``open_margin_m``,
+  at most the gripper's opening: a 68 mm mug is grasped with 6 mm to spare on each side);
+  at each end the material within ``contact_depth_m`` of it must span at least
+  ``min_contact_fraction`` of the pad's width (an L's arm end under a pad's corner is no grip);
+* **the planner's view**: the planner models the neighbours as boxes (grown by its collision
+  margin) and the hand as spheres; the hand's spheres, coming straight down to the grasp,
+  must stay clear of the neighbours' boxes — else the contact is raised (while the pads still
+  overlap the object) or the line is dropped, so no candidate goes to planning that the
+  planner must refuse;
+* **free descent**: each finger's column (``finger_thickness`` × ``finger_width``, at
+  ``open_margin / 2`` outside the material, from the pads' lowest point up) may hold at most
+  ``blocked_points`` points of anything — this object, its neighbours, untracked clusters,
+  environment above the table band (the table itself is the plane the contact height keeps the
+  pads above);
+* **rank**: free lines with a clearance (the horizontal distance from the finger columns to
+  the nearest point) of at least ``clearance_enough_m`` first, then nearest the centroid of
+  the object's area seen from above (:func:`footprint_centroid`; a grasp far from it lets the
+  object turn in the fingers, or closes on a cylinder's chord; lines more than
+  ``max_centroid_offset_m`` from it are not offered), then narrowest; at most ``max_candidates``, two lines of one axis at least two steps apart.
+
+The 2.5-D assumption: what is seen from above extends down to what is under it (occluded
+space counts as material where the object's points are above it, as free elsewhere). The rule in
+words, next to SPEC 3: ``docs/spec_extensions.md``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from typing import Optional
+
+import numpy as np
+
+from .. import _core
+from ..robot.description import HandClearances
+from .config import GraspConfig, GraspFitConfig
+from .scene_cloud import ENVIRONMENT, SceneCloud
+
+#: Points farther than this beyond the object's footprint cannot touch the hand (the Franka
+#: hand's half length, 0.1 m, plus its spheres' reach) — a search radius, not a tolerance.
+_HAND_REACH_M = 0.15
+
+
+@dataclass(frozen=True)
+class FittedLine:
+    """One closing line checked on the points. ``ok`` or ``reason``; ``position`` the contact
+    point (world), ``closing`` (3,) the closing axis, ``width_m`` the material span,
+    ``clearance_m`` of the finger columns, ``centroid_offset_m`` of the line's centre."""
+
+    ok: bool
+    reason: str
+    axis: int
+    offset_m: float
+    position: Optional[np.ndarray] = None
+    closing: Optional[np.ndarray] = None
+    width_m: float = 0.0
+    clearance_m: float = 0.0
+    centroid_offset_m: float = 0.0
+
+    def grasp(self, n: np.ndarray):
+        """The ``_core.BestGrasp`` of this line (approach = -n, closing axis column 2)."""
+        c = self.closing
+        y = np.cross(c, n)
+        R = np.column_stack([-n, y / np.linalg.norm(y), -c])
+        return _core.BestGrasp(R, np.asarray(self.position, float), float(self.width_m))
+
+
+@dataclass(frozen=True)
+class _Frame:
+    origin: np.ndarray  # (3,) world point on the table under the box centre
+    e_c: np.ndarray     # (3,) horizontal closing axis
+    e_a: np.ndarray     # (3,) horizontal axis across it
+    n: np.ndarray
+
+
+def _frames(track, cloud: SceneCloud) -> list[_Frame]:
+    e = track.smoothed
+    n = cloud.plane_n
+    R = np.asarray(e.R_box, float)
+    centre = np.asarray(e.center, float)
+    origin = centre - (float(n @ centre) + cloud.plane_c) * n
+    out = []
+    for k in (0, 1):
+        c = R[:, k] - float(R[:, k] @ n) * n
+        c /= np.linalg.norm(c)
+        out.append(_Frame(origin, c, np.cross(n, c), n))
+    return out
+
+
+def _local(frame: _Frame, pts: np.ndarray, cloud: SceneCloud) -> np.ndarray:
+    d = pts - frame.origin
+    return np.column_stack([d @ frame.e_c, d @ frame.e_a, cloud.heights_m(pts)])
+
+
+def _rect_dist(c: np.ndarray, a: np.ndarray, c_lo: float, c_hi: float, half_a: float) -> np.ndarray:
+    dc = np.maximum(np.maximum(c_lo - c, c - c_hi), 0.0)
+    da = np.maximum(np.abs(a) - half_a, 0.0)
+    return np.hypot(dc, da)
+
+
+@dataclass(frozen=True)
+class LineCheck:
+    """Outcome of the point checks of one line: ``ok`` or ``reason``; the material's centre
+    ``mid_c`` and ``width_m``; the finger columns' ``clearance_m``; the ``contact_h`` used."""
+
+    ok: bool
+    reason: str
+    mid_c: float = 0.0
+    width_m: float = 0.0
+    clearance_m: float = 0.0
+    contact_h: float = 0.0
+
+
+@dataclass(frozen=True)
+class LineLimits:
+    """What a line must respect: the hand, the opening margin, the width range, the object's
+    top height (the pads must overlap it by ``min_pad_overlap_m``), the point-check params."""
+
+    hand: HandClearances
+    open_margin_m: float
+    min_width_m: float
+    max_width_m: float
+    top_h: float
+    palm_clearance_m: float
+    cfg: GraspFitConfig
+    max_opening_m: float = 0.08
+    box_half_c: float = np.inf  # half the tracked box's extent along the closing axis
+
+    def opening(self, width_m: float) -> float:
+        """The fingers' gap while approaching: width + margin, at most the gripper's opening."""
+        return min(width_m + self.open_margin_m, self.max_opening_m)
+
+
+def _material(own: np.ndarray, a0: float, pad_bottom: float, lim: LineLimits):
+    strip = own[(np.abs(own[:, 1] - a0) <= 0.5 * lim.hand.finger_width_m) & (own[:, 2] >= pad_bottom)]
+    if len(strip) < lim.cfg.min_material_points:
+        return None, f"no material between the pads ({len(strip)} points)"
+    bound = lim.box_half_c + lim.cfg.column_tolerance_m  # the measured box bounds the object
+    lo = max(float(strip[:, 0].min()), -bound)
+    hi = min(float(strip[:, 0].max()), bound)
+    if hi - lo > lim.max_width_m:
+        return None, f"too wide to close on: {(hi - lo) * 1e3:.0f} mm"
+    need = lim.cfg.min_contact_fraction * lim.hand.finger_width_m
+    for side in (strip[strip[:, 0] >= hi - lim.cfg.contact_depth_m],
+                 strip[strip[:, 0] <= lo + lim.cfg.contact_depth_m]):
+        if float(np.ptp(side[:, 1])) < need:
+            return None, "a pad would touch the material only at its edge"
+    return (0.5 * (lo + hi), max(hi - lo, lim.min_width_m)), ""
+
+
+def _fingers(near: np.ndarray, a0: float, mid: float, width: float, pad_bottom: float,
+             lim: LineLimits) -> tuple[int, float]:
+    """(points in the worse finger column, clearance [m]) of the two descent columns."""
+    hand, cfg, tol = lim.hand, lim.cfg, lim.cfg.column_tolerance_m
+    pts = near[near[:, 2] >= pad_bottom - tol]
+    inner = 0.5 * lim.opening(width)
+    worst, best = 0, np.inf
+    for sign in (1.0, -1.0):
+        c0 = mid + sign * inner
+        c_lo, c_hi = (c0, c0 + hand.finger_thickness_m) if sign > 0 else (c0 - hand.finger_thickness_m, c0)
+        d = _rect_dist(pts[:, 0], pts[:, 1] - a0, c_lo, c_hi, 0.5 * hand.finger_width_m)
+        worst = max(worst, int(np.count_nonzero(d <= tol)))
+        if len(d) > cfg.blocked_points:
+            best = min(best, float(np.partition(d, cfg.blocked_points)[cfg.blocked_points]))
+    return worst, best
+
+
+@dataclass(frozen=True)
+class HandSpheres:
+    """The planner's spheres of the hand and fingers in the TCP frame (x across the closing
+    axis, y along it, z the approach): ``centres_closed`` at a zero opening, ``per_opening``
+    (S, 3) their shift per metre of opening (the fingers), ``radii`` (S,)."""
+
+    centres_closed: np.ndarray
+    per_opening: np.ndarray
+    radii: np.ndarray
+
+    def at(self, opening_m: float) -> np.ndarray:
+        return self.centres_closed + opening_m * self.per_opening
+
+
+def _sphere_need(boxes: np.ndarray, a0: float, mid: float, opening_m: float,
+                 spheres: HandSpheres) -> float:
+    """The lowest contact height at which no hand sphere, coming straight down, meets a box
+    sample (``boxes``: local (c, a, h) samples of the neighbours' grown boxes); both closing
+    signs (the planner chooses one by the arm's posture)."""
+    if len(boxes) == 0:
+        return -np.inf
+    cen, rad = spheres.at(opening_m), spheres.radii
+    need = -np.inf
+    for s in (1.0, -1.0):
+        dc = boxes[:, 0][None, :] - (mid + s * cen[:, 1])[:, None]
+        da = boxes[:, 1][None, :] - (a0 + s * cen[:, 0])[:, None]
+        d2 = rad[:, None] ** 2 - dc ** 2 - da ** 2
+        hit = d2 > 0
+        if np.any(hit):
+            k, p = np.nonzero(hit)
+            need = max(need, float(np.max(boxes[p, 2] + np.sqrt(d2[k, p]) + cen[k, 2])))
+    return need
+
+
+def check_line(own: np.ndarray, obstacles: np.ndarray, a0: float, contact_h: float,
+               lim: LineLimits, boxes: np.ndarray = np.zeros((0, 3)),
+               spheres: Optional[HandSpheres] = None) -> LineCheck:
+    """The point checks of one line at ``a0`` (module doc). ``own`` / ``obstacles``: (N, 3)
+    local (c, a, h) points of the object / of everything else that can block a finger;
+    ``boxes``: samples of the neighbours' boxes as the planner models them, checked against
+    the planner's hand ``spheres``. When a sphere would meet a box, the contact is raised once
+    (as far as the pads still overlap the object's top by ``min_pad_overlap_m``)."""
+    hand, cfg = lim.hand, lim.cfg
+    for attempt in (0, 1):
+        pad_bottom = contact_h - hand.pad_below_tcp_m
+        mat, why = _material(own, a0, pad_bottom, lim)
+        if mat is None:
+            return LineCheck(False, why)
+        mid, width = mat
+        others = np.vstack([obstacles, own[np.abs(own[:, 1] - a0) > 0.5 * hand.finger_width_m
+                                           + cfg.column_tolerance_m]])
+        blocked, clear = _fingers(others, a0, mid, width, pad_bottom, lim)
+        if blocked > cfg.blocked_points:
+            return LineCheck(False, f"a finger blocked by {blocked} points", mid, width)
+        opening = lim.opening(width)
+        need = -np.inf if spheres is None else _sphere_need(boxes, a0, mid, opening, spheres)
+        if need <= contact_h + 1e-4:
+            return LineCheck(True, "", mid, width, clear, contact_h)
+        limit = lim.top_h + hand.pad_below_tcp_m - cfg.min_pad_overlap_m
+        if attempt or need > limit:
+            return LineCheck(False, f"the hand meets a neighbour's box unless raised "
+                                    f"{(need - contact_h) * 1e3:.0f} mm", mid, width)
+        contact_h = need
+    return LineCheck(False, "unreachable")
+
+
+def surface_levels(own: np.ndarray, cell_m: float, gap_m: float) -> list[float]:
+    """Heights of the lower steps of an object seen from above: the tops of the grid columns
+    of its points (``own``: local (c, a, h)), sorted; wherever two successive tops differ by
+    more than ``gap_m`` the lower one is a step (a box on a box merged into one cluster, a
+    bottle's shoulder). Highest step first."""
+    ij = np.floor(own[:, :2] / cell_m).astype(np.int64)
+    ij -= ij.min(axis=0)
+    key = ij[:, 0] * (int(ij[:, 1].max()) + 1) + ij[:, 1]
+    order = np.lexsort((own[:, 2], key))
+    last = np.r_[key[order][1:] != key[order][:-1], True]
+    tops = np.sort(own[order][last, 2])
+    gaps = np.nonzero(np.diff(tops) > gap_m)[0]
+    return [float(tops[g]) for g in gaps[::-1]]
+
+
+def _heights(track, own: np.ndarray, hand: HandClearances, grasp_cfg: GraspConfig,
+             cfg: GraspFitConfig, band_m: float) -> list[float]:
+    """Contact heights to try: SPEC 3 / ours for the whole height; for an object whose lowest
+    visible point is high (lying on something), centred between that point and its top; and
+    just above each lower step of its top surface (the upper part alone: a box on a box seen
+    as one cluster), where the pads still overlap the part above by ``min_pad_overlap_m`` —
+    never so low that the palm meets the object's top (a mug's inside, a bottle's shoulder are
+    steps too)."""
+    from .grasp_source import contact_height_m
+
+    height = float(track.smoothed.height_m)
+    out = [contact_height_m(height, hand, grasp_cfg)]
+    bottom = float(own[:, 2].min())
+    if bottom > band_m + cfg.support_gap_m:
+        out.append(contact_height_m(height - bottom, hand, grasp_cfg) + bottom)
+    palm_over_top = height + grasp_cfg.palm_clearance_m - hand.palm_above_tcp_m
+    for level in surface_levels(own, cfg.footprint_cell_m, cfg.level_gap_m):
+        ch = max(level + grasp_cfg.table_clearance_m + hand.pad_below_tcp_m, palm_over_top)
+        if ch <= height + hand.pad_below_tcp_m - cfg.min_pad_overlap_m and ch not in out:
+            out.append(ch)
+    return out
+
+
+def footprint_centroid(points: np.ndarray, cell_m: float) -> np.ndarray:
+    """The centroid of the grid cells (x, y) the points occupy, at the points' mean height: the
+    centre of the object's area seen from above. Unlike the points' mean it is not pulled
+    towards the side the camera sees (an oblique view puts many points on the near wall)."""
+    cells = np.unique(np.floor(points[:, :2] / cell_m).astype(np.int64), axis=0)
+    return np.r_[(cells.mean(axis=0) + 0.5) * cell_m, points[:, 2].mean()]
+
+
+def box_samples(boxes, plane_n: np.ndarray, plane_c: float, margin_m: float, step_m: float) -> np.ndarray:
+    """(N, 3) points on the top faces of upright ``boxes`` (``OrientedBox``), their footprints
+    grown by ``margin_m``: the planner's model of the neighbours, as points (each column from
+    the table up to the box top is blocked; the top face stands for it)."""
+    out = []
+    for b in boxes:
+        R, e, c = np.asarray(b.R, float), np.asarray(b.extents, float), np.asarray(b.center, float)
+        u = np.arange(-0.5 * e[0] - margin_m, 0.5 * e[0] + margin_m + 1e-9, step_m)
+        v = np.arange(-0.5 * e[1] - margin_m, 0.5 * e[1] + margin_m + 1e-9, step_m)
+        U, V = np.meshgrid(u, v)
+        top = c + 0.5 * e[2] * R[:, 2]
+        out.append(top + np.outer(U.ravel(), R[:, 0]) + np.outer(V.ravel(), R[:, 1]))
+    return np.vstack(out) if out else np.zeros((0, 3))
+
+
+def fit_lines(track, cloud: SceneCloud, hand: HandClearances, grasp_cfg: GraspConfig,
+              cfg: GraspFitConfig, min_width_m: float, max_width_m: float,
+              neighbour_boxes: tuple = (), box_margin_m: float = 0.0,
+              spheres: Optional[HandSpheres] = None) -> list[FittedLine]:
+    """Every checked line of ``track`` (ok and not), in no particular order.
+    ``neighbour_boxes``: the planner's boxes of the other objects (sampled, footprints grown
+    by ``box_margin_m``), kept clear of the planner's hand ``spheres``."""
+    tid = int(track.tid)
+    e = track.smoothed
+    reach = 0.5 * float(np.hypot(*np.asarray(e.extents)[:2])) + _HAND_REACH_M
+    lc = cloud.near(np.asarray(e.center)[:2], reach)
+    own_mask = lc.owner == tid
+    if not np.any(own_mask):
+        return []
+    h_all = lc.heights_m()
+    obst_pts = lc.points[~own_mask & ((lc.owner != ENVIRONMENT) | (h_all > lc.band_m))]
+    box_pts = box_samples(neighbour_boxes, lc.plane_n, lc.plane_c, box_margin_m, cfg.footprint_cell_m)
+    centroid = footprint_centroid(lc.points[own_mask], cfg.footprint_cell_m)
+    open_max = max_width_m + grasp_cfg.open_margin_m  # the gripper's opening
+    lim = LineLimits(hand, grasp_cfg.open_margin_m, min_width_m, open_max - cfg.min_open_margin_m,
+                     float(e.height_m), grasp_cfg.palm_clearance_m, cfg, open_max)
+    out = []
+    for k, fr in enumerate(_frames(track, lc)):
+        lim = replace(lim, box_half_c=0.5 * float(np.asarray(e.extents)[k]))
+        own = _local(fr, lc.points[own_mask], lc)
+        obst = _local(fr, obst_pts, lc)
+        boxes = _local(fr, box_pts, lc)
+        a_cent = float((centroid - fr.origin) @ fr.e_a)
+        a_lo, a_hi = float(own[:, 1].min()), float(own[:, 1].max())
+        offsets = sorted(set(np.round(np.arange(a_lo, a_hi + 1e-9, cfg.line_step_m), 4)) | {round(a_cent, 4)})
+        for ch in _heights(track, own, hand, grasp_cfg, cfg, lc.band_m):
+            for a0 in offsets:
+                r = check_line(own, obst, a0, ch, lim, boxes, spheres)
+                pos = fr.origin + r.mid_c * fr.e_c + a0 * fr.e_a + r.contact_h * fr.n
+                off = abs(a0 - a_cent)
+                out.append(FittedLine(r.ok, r.reason, k, float(a0), pos, fr.e_c, r.width_m,
+                                      r.clearance_m, off))
+    return out
+
+
+def rank_lines(lines: list[FittedLine], cfg: GraspFitConfig) -> list[FittedLine]:
+    """The free lines, best first (module doc), near-duplicates dropped."""
+    free = sorted((ln for ln in lines if ln.ok and ln.centroid_offset_m <= cfg.max_centroid_offset_m),
+                  key=lambda ln: (ln.clearance_m < cfg.clearance_enough_m,
+                                  round(ln.centroid_offset_m / cfg.line_step_m), ln.width_m))
+    chosen: list[FittedLine] = []
+    for ln in free:
+        if any(c.axis == ln.axis and abs(c.offset_m - ln.offset_m) < 2 * cfg.line_step_m for c in chosen):
+            continue
+        chosen.append(ln)
+        if len(chosen) >= cfg.max_candidates:
+            break
+    return chosen

@@ -1,0 +1,192 @@
+"""Grasps fitted to the points (orchestration/grasp_fit.py) on small synthetic clouds."""
+
+import numpy as np
+
+from grasp_pipeline.motion.occupancy import OrientedBox
+from grasp_pipeline.orchestration.config import GraspConfig, GraspFitConfig
+from grasp_pipeline.orchestration.grasp_fit import box_samples, check_line, fit_lines, rank_lines, LineLimits
+from grasp_pipeline.orchestration.grasp_source import GeometricGraspSource, GraspRequest, planner_hand_spheres
+from grasp_pipeline.motion.perceived_scene import PerceivedScene
+from grasp_pipeline.robot.description import HandClearances
+
+from .clouds import ENV, UP, block, scene, table, track_of
+
+HAND = HandClearances(pad_below_tcp_m=0.011, palm_above_tcp_m=0.0394, finger_thickness_m=0.02,
+                      finger_width_m=0.019)
+CFG = GraspFitConfig()
+GRASP = GraspConfig()
+
+
+def _fit(track, cloud, boxes=(), spheres=None):
+    lines = fit_lines(track, cloud, HAND, GRASP, CFG, 0.005, 0.06, boxes, 0.005, spheres)
+    return lines, rank_lines(lines, CFG)
+
+
+def _l_block():
+    """An L: a 60 x 20 mm arm along x and a 20 x 60 mm arm along y, 40 mm tall."""
+    return np.vstack([block(0.50, 0.56, 0.00, 0.02, 0.0, 0.04), block(0.50, 0.52, 0.00, 0.06, 0.0, 0.04)])
+
+
+def _on_material(pts, position, closing, half_len):
+    """Points of ``pts`` on the closing line through ``position`` (within ``half_len``)."""
+    d = pts[:, :2] - position[:2]
+    along = d @ closing[:2]
+    across = np.abs(d @ np.array([-closing[1], closing[0]]))
+    return np.count_nonzero((across <= 0.004) & (np.abs(along) <= half_len))
+
+
+def test_an_l_block_is_grasped_on_its_material_not_at_the_box_centre():
+    L = _l_block()
+    cloud = scene((0, L), (ENV, table(holes=[(0.5, 0.56, 0.0, 0.06)])))
+    lines, ranked = _fit(track_of(0, L), cloud)
+    assert ranked, [ln.reason for ln in lines]
+    box_centre = np.array([0.53, 0.03])
+    assert _on_material(L, np.r_[box_centre, 0], np.array([1.0, 0, 0]), 0.005) == 0  # centre: air
+    for ln in ranked:
+        assert _on_material(L, ln.position, ln.closing, 0.5 * ln.width_m) >= 3, ln
+        assert min(abs(ln.width_m - 0.02), abs(ln.width_m - 0.06)) < 0.004  # across or along one arm
+    # a line through the empty quadrant is refused for want of material
+    assert any(ln.reason.startswith("no material") or "edge" in ln.reason for ln in lines if not ln.ok)
+
+
+def test_a_neighbour_in_a_finger_column_blocks_that_line_and_the_other_axis_is_used():
+    cube = block(0.50, 0.54, 0.00, 0.04, 0.0, 0.04)
+    wall = block(0.555, 0.565, -0.03, 0.07, 0.0, 0.05)  # a thin neighbour 15 mm right of it
+    wall2 = block(0.475, 0.485, -0.03, 0.07, 0.0, 0.05)  # and one 15 mm left of it
+    cloud = scene((0, cube), (1, wall), (2, wall2), (ENV, table()))
+    lines, ranked = _fit(track_of(0, cube), cloud)
+    assert ranked and all(ln.axis == 1 for ln in ranked)  # closing along y, away from the walls
+    assert any(not ln.ok and "finger blocked" in ln.reason for ln in lines if ln.axis == 0)
+
+
+def test_an_object_wider_than_the_opening_in_both_directions_has_no_line():
+    slab = block(0.45, 0.55, 0.0, 0.09, 0.0, 0.03)
+    lines, ranked = _fit(track_of(0, slab), scene((0, slab), (ENV, table())))
+    assert not ranked and any("too wide" in ln.reason for ln in lines)
+
+
+def test_the_table_band_does_not_block_the_fingers_but_points_above_it_do():
+    cube = block(0.50, 0.54, 0.00, 0.04, 0.0, 0.04)
+    noisy_table = table() + np.array([0, 0, 0.004])  # 4 mm high noise: still the table
+    _, ranked = _fit(track_of(0, cube), scene((0, cube), (ENV, noisy_table)))
+    assert ranked
+    clutter = table() + np.array([0, 0, 0.02])  # unknown environment 20 mm up: blocks
+    lines, ranked = _fit(track_of(0, cube), scene((0, cube), (ENV, clutter)))
+    assert not ranked and all("blocked" in ln.reason or not ln.ok for ln in lines)
+
+
+def test_a_mug_is_grasped_across_its_body_not_its_handle():
+    th = np.linspace(0, 2 * np.pi, 180, endpoint=False)
+    body = np.vstack([np.column_stack([0.5 + r * np.cos(th), r * np.sin(th), np.full(th.size, 0.09)])
+                      for r in np.arange(0.0, 0.0341, 0.003)])
+    handle = block(0.534, 0.56, -0.006, 0.006, 0.03, 0.07)
+    mug = np.vstack([body, handle])
+    cloud = scene((0, mug), (ENV, table(holes=[(0.46, 0.565, -0.04, 0.04)])))
+    lines, ranked = _fit(track_of(0, mug), cloud)
+    assert ranked
+    best = ranked[0]
+    assert abs(best.width_m - 0.068) < 0.006  # the body's diameter
+    assert abs(best.closing[1]) > 0.99  # closing along y: the handle (along +x) stays out of the pads
+    assert np.hypot(best.position[0] - 0.5, best.position[1]) < 0.01
+
+
+def test_the_top_box_of_a_stack_is_grasped_on_itself_above_the_lower_box():
+    lower = block(0.48, 0.58, -0.03, 0.07, 0.0, 0.04)
+    upper = block(0.51, 0.55, 0.0, 0.04, 0.04, 0.08)
+    cloud = scene((0, upper), (1, lower), (ENV, table()))
+    _, ranked = _fit(track_of(0, upper), cloud)
+    assert ranked
+    for ln in ranked:
+        pad_bottom = ln.position[2] - HAND.pad_below_tcp_m
+        assert pad_bottom > 0.04  # above the lower box's top
+        assert abs(ln.width_m - 0.04) < 0.004
+
+
+def test_a_neighbour_box_under_the_hand_raises_the_grasp_or_refuses_it():
+    spheres = planner_hand_spheres(0.04)
+    cube = block(0.50, 0.54, 0.00, 0.04, 0.0, 0.06)
+    cloud = scene((0, cube), (ENV, table()))
+    tall = OrientedBox(np.array([0.52, 0.10, 0.04]), np.eye(3), np.array([0.04, 0.04, 0.08]))
+    lines, ranked = _fit(track_of(0, cube), cloud, (tall,), spheres)
+    free, _ = _fit(track_of(0, cube), cloud, (), spheres)
+    assert free and ranked
+    assert min(ln.position[2] for ln in free) < min(ln.position[2] for ln in ranked) or \
+        all(ln.axis == 0 for ln in ranked)  # raised, or closing away from the tall box
+    towering = OrientedBox(np.array([0.52, 0.09, 0.10]), np.eye(3), np.array([0.06, 0.06, 0.20]))
+    lines, ranked = _fit(track_of(0, cube), cloud, (towering,), spheres)
+    assert all(ln.axis == 0 for ln in ranked)
+    assert any("neighbour's box" in ln.reason for ln in lines if ln.axis == 1)
+
+
+def test_box_samples_cover_the_grown_top_face():
+    b = OrientedBox(np.array([0.5, 0.0, 0.02]), np.eye(3), np.array([0.04, 0.02, 0.04]))
+    s = box_samples([b], UP, 0.0, 0.005, 0.003)
+    assert np.allclose(s[:, 2], 0.04)
+    assert s[:, 0].min() <= 0.475 + 1e-9 and s[:, 0].max() >= 0.522
+
+
+def test_check_line_needs_material_on_both_pads_across_their_width():
+    lim = LineLimits(HAND, 0.02, 0.005, 0.06, 0.04, 0.01, CFG)
+    own = np.array([[c, a, 0.04] for c in np.arange(-0.02, 0.021, 0.003) for a in np.arange(-0.01, 0.011, 0.003)])
+    assert check_line(own, np.zeros((0, 3)), 0.0, 0.02, lim).ok
+    corner = own[own[:, 1] > 0.006]  # only a strip under the pads' edge
+    assert not check_line(corner, np.zeros((0, 3)), -0.004, 0.02, lim).ok
+
+
+def test_the_source_proposes_fitted_grasps_with_points_and_none_without_a_box_grasp():
+    cube = block(0.50, 0.54, 0.00, 0.04, 0.0, 0.04)
+    src = GeometricGraspSource(GRASP, HAND, CFG)
+    req = GraspRequest((0.52, 0.02), track_of(0, cube), None, PerceivedScene(np.zeros((0, 3))), 0.06)
+    assert src.propose(req) == []  # no published grasp, no plane: nothing to fall back on
+    req = GraspRequest((0.52, 0.02), track_of(0, cube), None, PerceivedScene(np.zeros((0, 3))), 0.06,
+                       cloud=scene((0, cube), (ENV, table())))
+    grasps = src.propose(req)
+    assert grasps and abs(grasps[0].width_m - 0.04) < 0.004
+    assert len(grasps) == len(src.fitted(req))  # no plane in the scene: no box grasps after them
+    R = np.asarray(grasps[0].R)
+    assert np.allclose(R[:, 0], [0, 0, -1]) and abs(np.linalg.det(R) - 1) < 1e-9
+
+
+def test_a_stack_seen_as_one_cluster_is_grasped_by_its_upper_box():
+    lower = block(0.48, 0.56, -0.02, 0.035, 0.0, 0.028)
+    upper = block(0.505, 0.535, 0.0, 0.03, 0.028, 0.058)
+    merged = np.vstack([upper, lower])
+    _, ranked = _fit(track_of(0, merged), scene((0, merged), (ENV, table())))
+    assert ranked
+    best = ranked[0]
+    assert abs(best.width_m - 0.03) < 0.004, best
+    assert best.position[2] - HAND.pad_below_tcp_m > 0.028  # pads above the lower box
+
+
+def test_a_step_never_brings_the_palm_onto_the_object():
+    # a bottle: a 60 mm wide body 100 mm tall, a 25 mm neck up to 150 mm (the shoulder is a step)
+    body = block(0.47, 0.53, -0.03, 0.03, 0.0, 0.10)
+    neck = block(0.4875, 0.5125, -0.0125, 0.0125, 0.10, 0.15)
+    bottle = np.vstack([neck, body[~((np.abs(body[:, 0] - 0.5) < 0.0125) & (np.abs(body[:, 1]) < 0.0125)
+                                     & (body[:, 2] >= 0.1))]])
+    lines, _ = _fit(track_of(0, bottle), scene((0, bottle), (ENV, table())))
+    assert any(ln.ok for ln in lines)
+    palm_bottom = min(ln.position[2] for ln in lines if ln.ok) + HAND.palm_above_tcp_m
+    assert palm_bottom >= 0.15 + GRASP.palm_clearance_m - 1e-9
+
+
+def test_an_oblique_view_does_not_pull_the_line_off_a_cylinder_axis():
+    th = np.linspace(0, 2 * np.pi, 240, endpoint=False)
+    top = np.vstack([np.column_stack([0.5 + r * np.cos(th), r * np.sin(th), np.full(th.size, 0.06)])
+                     for r in np.r_[np.arange(0.0, 0.0325, 0.003), 0.0325]])
+    near = th[np.cos(th) < -0.3]  # the wall facing the camera: many points on one side
+    wall = np.vstack([np.column_stack([0.5 + 0.0325 * np.cos(near), 0.0325 * np.sin(near), np.full(near.size, z)])
+                      for z in np.arange(0.0, 0.06, 0.002)])
+    can = np.vstack([top, wall])
+    assert abs(can[:, 0].mean() - 0.5) > 0.008  # the points' mean is pulled to the near wall
+    _, ranked = _fit(track_of(0, can), scene((0, can), (ENV, table())))
+    assert ranked and abs(ranked[0].width_m - 0.065) < 0.003  # the diameter, not a chord
+    assert np.hypot(ranked[0].position[0] - 0.5, ranked[0].position[1]) < 0.004
+
+
+def test_smeared_edges_of_an_oblique_view_are_clipped_to_the_measured_box():
+    cube = block(0.50, 0.54, 0.00, 0.04, 0.0, 0.04)
+    smear = np.column_stack([np.full(30, 0.548), np.linspace(0.005, 0.035, 30), np.full(30, 0.03)])
+    track = track_of(0, cube)  # the box measured from above: 40 mm
+    _, ranked = _fit(track, scene((0, np.vstack([cube, smear])), (ENV, table())))
+    assert ranked and all(abs(ln.width_m - 0.04) < 0.0025 for ln in ranked if ln.axis == 0)
