@@ -124,6 +124,7 @@ void bind_types(py::module_& m) {
   float_field(sfp, "segment_max_hue_diff_deg", &SceneFilterParams::segment_max_hue_diff_deg);
   float_field(sfp, "segment_min_saturation", &SceneFilterParams::segment_min_saturation);
   float_field(sfp, "segment_min_brightness", &SceneFilterParams::segment_min_brightness);
+  int_field(sfp, "segment_absorb_max_points", &SceneFilterParams::segment_absorb_max_points);
   float_field(sfp, "depth_noise_sigma_m", &SceneFilterParams::depth_noise_sigma_m);
   float_field(sfp, "depth_noise_ref_range_m", &SceneFilterParams::depth_noise_ref_range_m);
   float_field(sfp, "depth_noise_exponent", &SceneFilterParams::depth_noise_exponent);

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
+#include <vector>
 
 namespace grasp_core {
 namespace {
@@ -62,6 +64,52 @@ void smooth_ranges(const int* cand_rows, std::size_t n_cand, int width, int heig
       }
     }
     out[k] = sum / static_cast<float>(cnt);  // cnt >= 1: the pixel itself
+  }
+}
+
+/// Segments of fewer than segment_absorb_max_points points (slivers of a steep side face,
+/// cut off by its large range steps) join the large segment they touch most in the image,
+/// counting only neighbour pairs within cluster_eps in 3-D (the Euclidean rule of SPEC 1.4,
+/// so nothing is joined that Euclidean clustering would have kept apart).
+void absorb_small_segments(const float* xyz, const int* cand_rows, std::size_t n_cand, int width,
+                           int height, const SceneFilterParams& p, OrganizedWorkspace& ws) {
+  const int small = p.segment_absorb_max_points;
+  if (small <= 0) return;
+  std::vector<int> size(n_cand, 0);
+  for (std::size_t k = 0; k < n_cand; ++k) ++size[static_cast<std::size_t>(find_root(ws.parent, static_cast<int>(k)))];
+  const float eps_sq = static_cast<float>(p.cluster_eps * p.cluster_eps);
+  const int* pix = ws.pixel_to_candidate.data();
+  std::vector<std::pair<int, int>> votes;  // (small root, large root) per touching pair
+  for (std::size_t k = 0; k < n_cand; ++k) {
+    const int rk = find_root(ws.parent, static_cast<int>(k));
+    if (size[static_cast<std::size_t>(rk)] >= small) continue;
+    const int u0 = cand_rows[k] % width, v0 = cand_rows[k] / width;
+    for (int dv = -1; dv <= 1; ++dv)
+      for (int du = -1; du <= 1; ++du) {
+        const int u = u0 + du, v = v0 + dv;
+        if ((du == 0 && dv == 0) || u < 0 || u >= width || v < 0 || v >= height) continue;
+        const int j = pix[static_cast<std::size_t>(v) * width + u];
+        if (j < 0) continue;
+        const int rj = find_root(ws.parent, j);
+        if (rj == rk || size[static_cast<std::size_t>(rj)] < small) continue;
+        const float* a = xyz + 3 * k;
+        const float* b = xyz + 3 * static_cast<std::size_t>(j);
+        const float dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+        if (dx * dx + dy * dy + dz * dz <= eps_sq) votes.emplace_back(rk, rj);
+      }
+  }
+  std::sort(votes.begin(), votes.end());
+  for (std::size_t i = 0; i < votes.size();) {  // per small root: the most-voted large root
+    std::size_t best = i, best_n = 0;
+    std::size_t j = i;
+    while (j < votes.size() && votes[j].first == votes[i].first) {
+      std::size_t e = j;
+      while (e < votes.size() && votes[e] == votes[j]) ++e;
+      if (e - j > best_n) { best_n = e - j; best = j; }
+      j = e;
+    }
+    ws.parent[static_cast<std::size_t>(votes[best].first)] = votes[best].second;
+    i = j;
   }
 }
 
@@ -126,6 +174,7 @@ std::vector<int> organized_components(const float* cand_xyz, const int* cand_row
       unite(ws.parent, static_cast<int>(k), j);
     }
   }
+  absorb_small_segments(cand_xyz, cand_rows, n_cand, width, height, params, ws);
   std::vector<int> comp(n_cand);
   for (std::size_t k = 0; k < n_cand; ++k) comp[k] = find_root(ws.parent, static_cast<int>(k));
   for (std::size_t k = 0; k < n_cand; ++k) pix[cand_rows[k]] = -1;  // leave the map all -1

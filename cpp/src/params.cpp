@@ -70,6 +70,8 @@ void SceneFilterParams::validate() const {
           "segment_min_saturation", segment_min_saturation, "a saturation in [0, 1]");
   require(finite(segment_min_brightness) && segment_min_brightness >= 0 && segment_min_brightness <= 255,
           "segment_min_brightness", segment_min_brightness, "a level in [0, 255]");
+  require(segment_absorb_max_points >= 0 && segment_absorb_max_points <= 10000000,
+          "segment_absorb_max_points", segment_absorb_max_points, "an integer in [0, 10000000] (0: never)");
   require(finite(depth_noise_sigma_m) && depth_noise_sigma_m > 0 && depth_noise_sigma_m <= 0.1,
           "depth_noise_sigma_m", depth_noise_sigma_m, "a sigma in (0, 0.1] m");
   require(finite(depth_noise_ref_range_m) && depth_noise_ref_range_m > 0 && depth_noise_ref_range_m <= 100,

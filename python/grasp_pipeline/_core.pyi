@@ -145,6 +145,7 @@ class SceneFilterParams:
     segment_max_hue_diff_deg: float
     segment_min_saturation: float
     segment_min_brightness: float
+    segment_absorb_max_points: int
     depth_noise_sigma_m: float
     depth_noise_ref_range_m: float
     depth_noise_exponent: float

@@ -260,9 +260,10 @@ def run_perceive(path: str | os.PathLike, *, T_world_camera: Sequence | None = N
     pts_world = (cloud.points.astype(np.float64) @ T[:3, :3].T + T[:3, 3]).astype(np.float32)
     session = PerceptionSession(settings.scene_filter, settings.obb, settings.workspace)
     t1 = time.perf_counter()
-    # An organized cloud is segmented over its image (scene_filter.segment_*), like a camera frame.
-    frame = session.process(pts_world, camera_position=T[:3, 3].copy(), time_s=0.0,
-                            image_width_px=cloud.width if cloud.organized else 0)
+    # Files go through Euclidean clustering (SPEC 1.4), also organized ones: the organized
+    # segmentation needs the true camera position, which a file's transform may not give, and
+    # it still cuts slivers off steep side faces in some frames (issue 12, open).
+    frame = session.process(pts_world, camera_position=T[:3, 3].copy(), time_s=0.0)
     if frame.outside_workspace:
         out(f"workspace: dropped {frame.outside_workspace} point(s) outside it")
     timings = {"load": 1e3 * t_load, "perception": 1e3 * (time.perf_counter() - t1)}

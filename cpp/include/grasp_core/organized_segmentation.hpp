@@ -17,7 +17,10 @@
 //    RGB or chromaticity: shading scales a colour and ambient light or a highlight adds white,
 //    neither of which changes the hue; grey, white and black surfaces are not compared.
 // A gap between two objects through which the table shows is a boundary by construction: the
-// table is below the band, so it is no candidate. Components are then labelled by the rules of
+// table is below the band, so it is no candidate. Segments of fewer than
+// segment_absorb_max_points points (slivers of steep side faces, whose range steps between
+// pixels are large) then join the large segment they touch most, over neighbour pairs within
+// cluster_eps in 3-D. Components are then labelled by the rules of
 // SPEC 1.4 (min_points, extents) through clusters_from_components().
 //
 // Why not PCL's class itself: OrganizedConnectedComponentSegmentation visits every pixel of

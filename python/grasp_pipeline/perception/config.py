@@ -135,6 +135,7 @@ _SCENE_FILTER_RANGES = {
     "segment_max_hue_diff_deg": _Range(None, 180.0, unit=" deg (<= 0: colour unused)"),
     "segment_min_saturation": _Range(0, 1),
     "segment_min_brightness": _Range(0, 255),
+    "segment_absorb_max_points": _Range(0, 10_000_000, unit=" (0: never)"),
     "depth_noise_sigma_m": _Range(0, 0.1, lo_open=True, unit=" m"),
     "depth_noise_ref_range_m": _Range(0, 100, lo_open=True, unit=" m"),
     "depth_noise_exponent": _Range(0, 4),
@@ -198,6 +199,7 @@ class SceneFilterConfig:
     segment_max_hue_diff_deg: float = 20.0
     segment_min_saturation: float = 0.25
     segment_min_brightness: float = 30.0
+    segment_absorb_max_points: int = 100
     #: (ours, issue 12) depth noise model sigma(r) = sigma * (r / ref)^exponent, and the
     #: range-dependent minimum object height (in sigmas of it; 0 disables).
     depth_noise_sigma_m: float = 0.002
