@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -173,6 +174,29 @@ inline py::array_t<double> to_numpy(const std::vector<double>& v) {
   py::array_t<double> out(static_cast<py::ssize_t>(v.size()));
   std::copy(v.begin(), v.end(), out.mutable_data());
   return out;
+}
+
+/// (issue 12) An optional colour image for `rows` points: None -> an empty handle; else a
+/// C-contiguous uint8 array with rows x 3 values ((H, W, 3) or (N, 3)), read in place when it
+/// already is one (a copy otherwise). TypeError / ValueError name the argument.
+inline py::array rgb_view(const py::object& obj, std::size_t rows) {
+  if (obj.is_none()) return py::array();
+  if (!py::isinstance<py::array>(obj))
+    throw py::type_error("rgb: expected None or a numpy uint8 array of shape (H, W, 3), got " +
+                         describe(obj));
+  py::array arr = py::reinterpret_borrow<py::array>(obj);
+  if (!arr.dtype().is(py::dtype::of<std::uint8_t>()))
+    throw py::type_error("rgb: expected dtype uint8, got " + py::str(arr.dtype()).cast<std::string>() +
+                         " (convert with .astype(numpy.uint8))");
+  const bool shape_ok = (arr.ndim() == 3 && arr.shape(2) == 3) || (arr.ndim() == 2 && arr.shape(1) == 3);
+  if (!shape_ok || static_cast<std::size_t>(arr.size()) != 3 * rows) {
+    std::ostringstream os;
+    os << "rgb: expected shape (H, W, 3) with H*W = " << rows << " points (one colour per row), got (";
+    for (py::ssize_t i = 0; i < arr.ndim(); ++i) os << (i ? ", " : "") << arr.shape(i);
+    os << ")";
+    throw py::value_error(os.str());
+  }
+  return py::array_t<std::uint8_t, py::array::c_style>::ensure(arr);
 }
 
 }  // namespace grasp_bind

@@ -110,7 +110,13 @@ void bind_scene_filter(py::module_& m) {
       .def_readonly("extent_m", &ClusterInfo::extent_m)
       .def_readonly("min", &ClusterInfo::min)
       .def_readonly("max", &ClusterInfo::max)
-      .def_readonly("accepted", &ClusterInfo::accepted);
+      .def_readonly("accepted", &ClusterInfo::accepted)
+      .def_readonly("height_m", &ClusterInfo::height_m,
+                    "with the camera position: 90th-percentile height above the table [m]")
+      .def_readonly("range_m", &ClusterInfo::range_m, "camera -> centroid distance [m]")
+      .def_readonly("min_height_m", &ClusterInfo::min_height_m,
+                    "the height it needed at that range [m] (object_min_height_sigmas)")
+      .def_readonly("too_low", &ClusterInfo::too_low, "refused by the range-dependent minimum height");
 
   py::class_<ClusterResult>(m, "ClusterResult", "Euclidean clustering result")
       .def_property_readonly("labels", [](py::object self) {
@@ -236,7 +242,11 @@ void bind_scene_filter(py::module_& m) {
                     "validity check, packing and labels of every row [ms]")
       .def_readonly("ms_plane", &SceneFilterResult::ms_plane)
       .def_readonly("ms_cluster", &SceneFilterResult::ms_cluster)
-      .def_readonly("ms_total", &SceneFilterResult::ms_total);
+      .def_readonly("ms_total", &SceneFilterResult::ms_total)
+      .def_readonly("organized", &SceneFilterResult::organized,
+                    "the candidates were segmented over the image (organized segmentation)")
+      .def_readonly("num_too_low", &SceneFilterResult::num_too_low,
+                    "clusters refused by the range-dependent minimum object height");
 
   using GFilter = Guarded<SceneFilter>;
   py::class_<GFilter>(m, "SceneFilter",

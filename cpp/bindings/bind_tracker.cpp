@@ -115,18 +115,29 @@ void bind_perception(py::module_& m) {
            }), py::arg("filter_params"), py::arg("obb_params"))
       .def("process",
            [](const GPerception& g, const py::object& points, const py::object& camera_position,
-              double time_s) {
+              double time_s, int image_width, const py::object& rgb) {
              PointsView v = points_view(points, "points");
              const Vec3 cam = vec3(camera_position, "camera_position");
+             if (image_width < 0 || (image_width > 0 && v.rows % static_cast<std::size_t>(image_width) != 0))
+               throw py::value_error("image_width: expected 0 (unorganized) or the width of an organized "
+                                     "frame whose row count is a multiple of it");
+             const py::array colour = rgb_view(rgb, v.rows);
+             const auto* c = colour ? static_cast<const std::uint8_t*>(colour.data()) : nullptr;
              return locked(g, [&](Perception& self) {
                if (v.is_float)
-                 return self.process(static_cast<const float*>(v.data), v.rows, v.row_stride, cam, time_s);
-               return self.process(static_cast<const double*>(v.data), v.rows, v.row_stride, cam, time_s);
+                 return self.process(static_cast<const float*>(v.data), v.rows, v.row_stride, cam,
+                                     time_s, image_width, c);
+               return self.process(static_cast<const double*>(v.data), v.rows, v.row_stride, cam,
+                                   time_s, image_width, c);
              });
            },
            py::arg("points"), py::arg("camera_position"), py::arg("time_s"),
+           py::arg("image_width") = 0, py::arg("rgb") = py::none(),
            "One (N,3) float32/float64 frame in world coordinates with the camera position at "
-           "capture and the capture time [s].")
+           "capture and the capture time [s]. image_width > 0: the frame is organized (row "
+           "v*W + u is pixel (u, v)) and its object candidates are segmented over the image; "
+           "rgb: None or an (H, W, 3) / (N, 3) uint8 colour image aligned with the rows (read in "
+           "place when C-contiguous).")
       // Views into this object: they keep it alive and share its mutex. (Perception exposes
       // them const; the binding keeps the old, mutable Python API, serialised.)
       .def_property_readonly("scene_filter", [](const GPerception& g) {

@@ -118,6 +118,17 @@ void bind_types(py::module_& m) {
   float_field(sfp, "cluster_voxel_m", &SceneFilterParams::cluster_voxel_m);
   seed_field(sfp, "seed", &SceneFilterParams::seed);
   float_field(sfp, "max_abs_coordinate_m", &SceneFilterParams::max_abs_coordinate_m);
+  bool_field(sfp, "segment_organized", &SceneFilterParams::segment_organized);
+  int_field(sfp, "segment_smooth_radius_px", &SceneFilterParams::segment_smooth_radius_px);
+  float_field(sfp, "segment_max_step_m", &SceneFilterParams::segment_max_step_m);
+  float_field(sfp, "segment_max_hue_diff_deg", &SceneFilterParams::segment_max_hue_diff_deg);
+  float_field(sfp, "segment_min_saturation", &SceneFilterParams::segment_min_saturation);
+  float_field(sfp, "segment_min_brightness", &SceneFilterParams::segment_min_brightness);
+  int_field(sfp, "segment_absorb_max_points", &SceneFilterParams::segment_absorb_max_points);
+  float_field(sfp, "depth_noise_sigma_m", &SceneFilterParams::depth_noise_sigma_m);
+  float_field(sfp, "depth_noise_ref_range_m", &SceneFilterParams::depth_noise_ref_range_m);
+  float_field(sfp, "depth_noise_exponent", &SceneFilterParams::depth_noise_exponent);
+  float_field(sfp, "object_min_height_sigmas", &SceneFilterParams::object_min_height_sigmas);
   sfp.def("validate", &SceneFilterParams::validate,
           "Raise ValueError naming the first invalid parameter.");
 

@@ -332,12 +332,118 @@ bool components_grid(const PointView& pts, const std::vector<int>& finite, doubl
   return true;
 }
 
+/// 90th percentile of the heights above `plane` of the given points (nth_element).
+double height_p90(const PointView& pts, const std::vector<int>& members, const Plane& plane) {
+  std::vector<double> h(members.size());
+  for (std::size_t k = 0; k < members.size(); ++k) {
+    const float* p = pts.at(members[k]);
+    h[k] = plane.signed_distance(Vec3(p[0], p[1], p[2]));
+  }
+  const std::size_t q = (h.size() * 9) / 10;
+  std::nth_element(h.begin(), h.begin() + static_cast<std::ptrdiff_t>(q), h.end());
+  return h[q];
+}
+
+/// Components -> labels and infos (the shared tail of both clustering paths): min_points,
+/// extents on the original points, the optional height rule, compact labels.
+void label_partition(const PointView& pts, const std::vector<int>& finite,
+                     const std::vector<int>& comp, int min_points, double min_extent_m,
+                     double max_extent_m, const HeightRule* height_rule, ClusterResult& out) {
+
+  // Per component: size, first point, AABB on the original points.
+  struct Acc {
+    int count = 0;
+    int first = std::numeric_limits<int>::max();
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector3d hi = Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity());
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  };
+  // Compact the component ids (they may be sparse roots).
+  std::vector<int> dense(finite.size(), -1);
+  std::vector<int> comp_dense(finite.size());
+  std::vector<Acc> acc;
+  for (std::size_t k = 0; k < finite.size(); ++k) {
+    int& d = dense[static_cast<std::size_t>(comp[k])];
+    if (d < 0) {
+      d = static_cast<int>(acc.size());
+      acc.emplace_back();
+    }
+    comp_dense[k] = d;
+    Acc& a = acc[static_cast<std::size_t>(d)];
+    ++a.count;
+    a.first = std::min(a.first, static_cast<int>(k));
+    const Eigen::Vector3d p = Eigen::Map<const Eigen::Vector3f>(pts.at(finite[k])).cast<double>();
+    a.lo = a.lo.cwiseMin(p);
+    a.hi = a.hi.cwiseMax(p);
+    a.sum += p;
+  }
+  out.num_components = static_cast<int>(acc.size());
+
+  std::vector<int> big;  // components with enough points
+  for (std::size_t c = 0; c < acc.size(); ++c)
+    if (acc[c].count >= min_points) big.push_back(static_cast<int>(c));
+  std::vector<char> accepted(acc.size(), 0);
+  for (const int c : big) {
+    const double extent = (acc[c].hi - acc[c].lo).norm();
+    accepted[c] = extent >= min_extent_m && (max_extent_m <= 0.0 || extent <= max_extent_m);
+  }
+  // The height rule, on the components that pass the other rules.
+  const bool rule = height_rule != nullptr && height_rule->sigmas > 0.0;
+  std::vector<double> height(acc.size(), 0.0), range(acc.size(), 0.0), need(acc.size(), 0.0);
+  std::vector<char> too_low(acc.size(), 0);
+  if (rule) {
+    std::vector<std::vector<int>> members(acc.size());
+    for (const int c : big)
+      if (accepted[c]) members[c].reserve(static_cast<std::size_t>(acc[c].count));
+    for (std::size_t k = 0; k < finite.size(); ++k) {
+      const int c = comp_dense[k];
+      if (accepted[c] && acc[c].count >= min_points) members[c].push_back(finite[k]);
+    }
+    const HeightRule& hr = *height_rule;
+    for (const int c : big) {
+      if (!accepted[c]) continue;
+      range[c] = (acc[c].sum / acc[c].count - hr.camera).norm();
+      need[c] = hr.sigmas * hr.noise_sigma_m * std::pow(range[c] / hr.ref_range_m, hr.exponent);
+      height[c] = height_p90(pts, members[c], hr.table);
+      if (height[c] < need[c]) {
+        too_low[c] = 1;
+        accepted[c] = 0;
+      }
+    }
+  }
+  std::sort(big.begin(), big.end(), [&](int a, int b) {
+    if (accepted[a] != accepted[b]) return accepted[a] > accepted[b];
+    if (acc[a].count != acc[b].count) return acc[a].count > acc[b].count;
+    return acc[a].first < acc[b].first;
+  });
+  std::vector<int> label_of(acc.size(), kLabelEnvironment);
+  for (const int c : big) {
+    ClusterInfo info;
+    info.num_points = acc[c].count;
+    info.min = acc[c].lo;
+    info.max = acc[c].hi;
+    info.extent_m = (acc[c].hi - acc[c].lo).norm();
+    info.accepted = accepted[c] != 0;
+    info.height_m = height[c];
+    info.range_m = range[c];
+    info.min_height_m = need[c];
+    info.too_low = too_low[c] != 0;
+    if (info.accepted) {
+      info.label = out.num_accepted++;
+      label_of[c] = info.label;
+    }
+    out.clusters.push_back(info);
+  }
+  for (std::size_t k = 0; k < finite.size(); ++k)
+    out.labels[static_cast<std::size_t>(finite[k])] = label_of[static_cast<std::size_t>(comp_dense[k])];
+}
+
 }  // namespace
 
 ClusterResult euclidean_clusters(const float* xyz, std::size_t n_rows,
                                  std::size_t row_stride_floats, double eps_m, int min_points,
                                  double min_extent_m, double max_extent_m, double voxel_m,
-                                 double max_abs_coordinate_m) {
+                                 double max_abs_coordinate_m, const HeightRule* height_rule) {
   if (n_rows > 0 && xyz == nullptr)
     throw std::invalid_argument("euclidean_clusters: null point buffer");
   if (n_rows > 0 && row_stride_floats < 3)
@@ -371,63 +477,26 @@ ClusterResult euclidean_clusters(const float* xyz, std::size_t n_rows,
   const bool fast = std::isfinite(voxel_m) && voxel_m > 0.0 &&
                     components_grid(pts, finite, eps_m, comp);
   if (!fast) comp = components_exact(pts, finite, eps_m);
+  label_partition(pts, finite, comp, min_points, min_extent_m, max_extent_m, height_rule, out);
+  return out;
+}
 
-  // Per component: size, first point, AABB on the original points.
-  struct Acc {
-    int count = 0;
-    int first = std::numeric_limits<int>::max();
-    Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
-    Eigen::Vector3d hi = Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity());
-  };
-  // Compact the component ids (they may be sparse roots).
-  std::vector<int> dense(finite.size(), -1);
-  std::vector<int> comp_dense(finite.size());
-  std::vector<Acc> acc;
-  for (std::size_t k = 0; k < finite.size(); ++k) {
-    int& d = dense[static_cast<std::size_t>(comp[k])];
-    if (d < 0) {
-      d = static_cast<int>(acc.size());
-      acc.emplace_back();
-    }
-    comp_dense[k] = d;
-    Acc& a = acc[static_cast<std::size_t>(d)];
-    ++a.count;
-    a.first = std::min(a.first, static_cast<int>(k));
-    const Eigen::Vector3d p = Eigen::Map<const Eigen::Vector3f>(pts.at(finite[k])).cast<double>();
-    a.lo = a.lo.cwiseMin(p);
-    a.hi = a.hi.cwiseMax(p);
-  }
-  out.num_components = static_cast<int>(acc.size());
-
-  std::vector<int> big;  // components with enough points
-  for (std::size_t c = 0; c < acc.size(); ++c)
-    if (acc[c].count >= min_points) big.push_back(static_cast<int>(c));
-  std::vector<char> accepted(acc.size(), 0);
-  for (const int c : big) {
-    const double extent = (acc[c].hi - acc[c].lo).norm();
-    accepted[c] = extent >= min_extent_m && (max_extent_m <= 0.0 || extent <= max_extent_m);
-  }
-  std::sort(big.begin(), big.end(), [&](int a, int b) {
-    if (accepted[a] != accepted[b]) return accepted[a] > accepted[b];
-    if (acc[a].count != acc[b].count) return acc[a].count > acc[b].count;
-    return acc[a].first < acc[b].first;
-  });
-  std::vector<int> label_of(acc.size(), kLabelEnvironment);
-  for (const int c : big) {
-    ClusterInfo info;
-    info.num_points = acc[c].count;
-    info.min = acc[c].lo;
-    info.max = acc[c].hi;
-    info.extent_m = (acc[c].hi - acc[c].lo).norm();
-    info.accepted = accepted[c] != 0;
-    if (info.accepted) {
-      info.label = out.num_accepted++;
-      label_of[c] = info.label;
-    }
-    out.clusters.push_back(info);
-  }
-  for (std::size_t k = 0; k < finite.size(); ++k)
-    out.labels[static_cast<std::size_t>(finite[k])] = label_of[static_cast<std::size_t>(comp_dense[k])];
+ClusterResult clusters_from_components(const float* xyz, std::size_t n_rows,
+                                       std::size_t row_stride_floats, const std::vector<int>& comp,
+                                       int min_points, double min_extent_m, double max_extent_m,
+                                       const HeightRule* height_rule) {
+  if (comp.size() != n_rows)
+    throw std::invalid_argument("clusters_from_components: one component id per row expected");
+  ClusterResult out;
+  out.labels.assign(n_rows, kLabelEnvironment);
+  if (n_rows == 0) return out;
+  std::vector<int> finite(n_rows);
+  std::iota(finite.begin(), finite.end(), 0);
+  for (const int c : comp)
+    if (c < 0 || static_cast<std::size_t>(c) >= n_rows)
+      throw std::invalid_argument("clusters_from_components: component id out of range");
+  label_partition(PointView{xyz, row_stride_floats}, finite, comp, std::max(min_points, 1),
+                  min_extent_m, max_extent_m, height_rule, out);
   return out;
 }
 

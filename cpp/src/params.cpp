@@ -1,5 +1,6 @@
 #include "grasp_core/params.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -59,6 +60,30 @@ void SceneFilterParams::validate() const {
   require(finite(max_abs_coordinate_m) && max_abs_coordinate_m > 0 &&
               max_abs_coordinate_m <= kMaxAbsCoordinateLimit_m,
           "max_abs_coordinate_m", max_abs_coordinate_m, "a bound in (0, 1e9] m");
+  require(segment_smooth_radius_px >= 0 && segment_smooth_radius_px <= 10,
+          "segment_smooth_radius_px", segment_smooth_radius_px, "an integer in [0, 10] px");
+  require(finite(segment_max_step_m) && segment_max_step_m > 0 && segment_max_step_m <= 1.0,
+          "segment_max_step_m", segment_max_step_m, "a step in (0, 1] m");
+  require(finite(segment_max_hue_diff_deg) && segment_max_hue_diff_deg <= 180.0,
+          "segment_max_hue_diff_deg", segment_max_hue_diff_deg, "an angle <= 180 deg (<= 0: colour unused)");
+  require(finite(segment_min_saturation) && segment_min_saturation >= 0 && segment_min_saturation <= 1,
+          "segment_min_saturation", segment_min_saturation, "a saturation in [0, 1]");
+  require(finite(segment_min_brightness) && segment_min_brightness >= 0 && segment_min_brightness <= 255,
+          "segment_min_brightness", segment_min_brightness, "a level in [0, 255]");
+  require(segment_absorb_max_points >= 0 && segment_absorb_max_points <= 10000000,
+          "segment_absorb_max_points", segment_absorb_max_points, "an integer in [0, 10000000] (0: never)");
+  require(finite(depth_noise_sigma_m) && depth_noise_sigma_m > 0 && depth_noise_sigma_m <= 0.1,
+          "depth_noise_sigma_m", depth_noise_sigma_m, "a sigma in (0, 0.1] m");
+  require(finite(depth_noise_ref_range_m) && depth_noise_ref_range_m > 0 && depth_noise_ref_range_m <= 100,
+          "depth_noise_ref_range_m", depth_noise_ref_range_m, "a range in (0, 100] m");
+  require(finite(depth_noise_exponent) && depth_noise_exponent >= 0 && depth_noise_exponent <= 4,
+          "depth_noise_exponent", depth_noise_exponent, "an exponent in [0, 4]");
+  require(finite(object_min_height_sigmas) && object_min_height_sigmas >= 0 && object_min_height_sigmas <= 100,
+          "object_min_height_sigmas", object_min_height_sigmas, "a count in [0, 100] (0 disables)");
+}
+
+double SceneFilterParams::depth_noise_at(double range_m) const {
+  return depth_noise_sigma_m * std::pow(std::max(range_m, 0.0) / depth_noise_ref_range_m, depth_noise_exponent);
 }
 
 void ObbParams::validate() const {

@@ -26,18 +26,21 @@ void Perception::reset() {
 }
 
 PerceptionFrame Perception::process(const float* xyz, std::size_t n_rows, std::size_t row_stride,
-                                    const Vec3& camera_position, double time_s) {
-  return process_impl(xyz, n_rows, row_stride, camera_position, time_s);
+                                    const Vec3& camera_position, double time_s, int image_width,
+                                    const std::uint8_t* rgb) {
+  return process_impl(xyz, n_rows, row_stride, camera_position, time_s, image_width, rgb);
 }
 
 PerceptionFrame Perception::process(const double* xyz, std::size_t n_rows, std::size_t row_stride,
-                                    const Vec3& camera_position, double time_s) {
-  return process_impl(xyz, n_rows, row_stride, camera_position, time_s);
+                                    const Vec3& camera_position, double time_s, int image_width,
+                                    const std::uint8_t* rgb) {
+  return process_impl(xyz, n_rows, row_stride, camera_position, time_s, image_width, rgb);
 }
 
 template <typename T>
 PerceptionFrame Perception::process_impl(const T* xyz, std::size_t n_rows, std::size_t row_stride,
-                                         const Vec3& camera_position, double time_s) {
+                                         const Vec3& camera_position, double time_s,
+                                         int image_width, const std::uint8_t* rgb) {
   if (!std::isfinite(time_s)) throw std::invalid_argument("time_s must be finite");
   if (!camera_position.allFinite()) {
     throw std::invalid_argument("camera_position must be 3 finite numbers");
@@ -52,7 +55,11 @@ PerceptionFrame Perception::process_impl(const T* xyz, std::size_t n_rows, std::
   PerceptionFrame out;
   out.time_s = time_s;
   out.camera_position = camera_position;
-  out.filter = filter_.process(xyz, n_rows, row_stride);
+  FrameContext ctx;
+  ctx.image_width = image_width;
+  ctx.rgb = rgb;
+  ctx.camera_position = camera_position;
+  out.filter = filter_.process(xyz, n_rows, row_stride, ctx);
   last_time_s_ = time_s;
   has_time_ = true;
 
@@ -124,8 +131,10 @@ PerceptionFrame Perception::process_impl(const T* xyz, std::size_t n_rows, std::
 }
 
 template PerceptionFrame Perception::process_impl<float>(const float*, std::size_t, std::size_t,
-                                                         const Vec3&, double);
+                                                         const Vec3&, double, int,
+                                                         const std::uint8_t*);
 template PerceptionFrame Perception::process_impl<double>(const double*, std::size_t, std::size_t,
-                                                          const Vec3&, double);
+                                                          const Vec3&, double, int,
+                                                          const std::uint8_t*);
 
 }  // namespace grasp_core

@@ -420,11 +420,43 @@ std::size_t split_band(const Packed& pk, const Plane& table, double band_m,
   return w;
 }
 
+/// The candidates' clusters: organized segmentation when the frame is organized (and the
+/// camera position known), else Euclidean clustering; with the camera position the
+/// range-dependent minimum object height applies to both.
+ClusterResult segment_candidates(std::size_t n_cand, std::size_t n_rows,
+                                 const SceneFilterParams& params, SceneFilterWorkspace& ws,
+                                 const FrameContext& ctx, const Plane& table,
+                                 SceneFilterResult& res) {
+  std::optional<HeightRule> rule;
+  if (ctx.camera_position && params.object_min_height_sigmas > 0.0) {
+    rule = HeightRule{table, *ctx.camera_position, params.object_min_height_sigmas,
+                      params.depth_noise_sigma_m, params.depth_noise_ref_range_m,
+                      params.depth_noise_exponent};
+  }
+  const HeightRule* hr = rule ? &*rule : nullptr;
+  ClusterResult cl;
+  if (ctx.image_width > 0 && params.segment_organized && ctx.camera_position) {
+    res.organized = true;
+    const std::vector<int> comp = organized_components(
+        ws.cand_xyz.data(), ws.cand_rows.data(), n_cand, n_rows, ctx.image_width, ctx.rgb,
+        *ctx.camera_position, params, ws.organized);
+    cl = clusters_from_components(ws.cand_xyz.data(), n_cand, 3, comp, params.cluster_min_points,
+                                  params.cluster_min_extent, params.cluster_max_extent, hr);
+  } else {
+    cl = euclidean_clusters(ws.cand_xyz.data(), n_cand, 3, params.cluster_eps,
+                            params.cluster_min_points, params.cluster_min_extent,
+                            params.cluster_max_extent, params.cluster_voxel_m,
+                            params.max_abs_coordinate_m, hr);
+  }
+  for (const ClusterInfo& c : cl.clusters) res.num_too_low += c.too_low ? 1 : 0;
+  return cl;
+}
+
 /// Steps 2–4 of the data path for one packed frame; `frame_seed` drives the plane search.
 /// `res.labels` already holds kLabelEnvironment / kLabelInvalid for every input row.
 void run_frame(const Packed& pk, std::size_t n_rows, const SceneFilterParams& params,
                PlanePersistence& persistence, std::uint64_t frame_seed, bool& oor_reported,
-               SceneFilterWorkspace& ws, SceneFilterResult& res) {
+               SceneFilterWorkspace& ws, const FrameContext& ctx, SceneFilterResult& res) {
   res.band = params.band;
   res.max_abs_coordinate_m = params.max_abs_coordinate_m;
   const std::size_t n_valid = pk.size();
@@ -453,10 +485,7 @@ void run_frame(const Packed& pk, std::size_t n_rows, const SceneFilterParams& pa
   if (res.table && !res.fallback) {
     const std::size_t n_cand = split_band(pk, *res.table, params.band, ws);
     res.num_candidates = static_cast<int>(n_cand);
-    const ClusterResult cl = euclidean_clusters(
-        ws.cand_xyz.data(), n_cand, 3, params.cluster_eps, params.cluster_min_points,
-        params.cluster_min_extent, params.cluster_max_extent, params.cluster_voxel_m,
-        params.max_abs_coordinate_m);
+    const ClusterResult cl = segment_candidates(n_cand, n_rows, params, ws, ctx, *res.table, res);
     const int* cand_rows = ws.cand_rows.data();
     for (std::size_t k = 0; k < n_cand; ++k) {
       const int label = cl.labels[k];
@@ -474,13 +503,14 @@ template <typename T>
 SceneFilterResult process_frame(const T* xyz, std::size_t n_rows, std::size_t row_stride,
                                 const SceneFilterParams& params, PlanePersistence& persistence,
                                 std::uint64_t frame_seed, bool& oor_reported,
-                                SceneFilterWorkspace& ws) {
+                                SceneFilterWorkspace& ws, const FrameContext& ctx) {
+
   const auto t0 = Clock::now();
   SceneFilterResult res;
   res.labels.assign(n_rows, kLabelEnvironment);  // pack_finite marks the invalid rows
   const Packed pk =
       pack_finite(xyz, n_rows, row_stride, params.max_abs_coordinate_m, ws, res.labels.data());
-  run_frame(pk, n_rows, params, persistence, frame_seed, oor_reported, ws, res);
+  run_frame(pk, n_rows, params, persistence, frame_seed, oor_reported, ws, ctx, res);
   res.ms_pack = ms_since(t0) - res.ms_plane - res.ms_cluster;
   res.ms_total = ms_since(t0);
   return res;
@@ -488,14 +518,30 @@ SceneFilterResult process_frame(const T* xyz, std::size_t n_rows, std::size_t ro
 
 }  // namespace
 
-SceneFilterResult SceneFilter::process(const float* xyz, std::size_t n_rows, std::size_t row_stride) {
+namespace {
+/// std::invalid_argument for a context that does not fit the frame (before the frame counts).
+void check_context(std::size_t n_rows, const FrameContext& ctx) {
+  if (ctx.image_width < 0 ||
+      (ctx.image_width > 0 && n_rows % static_cast<std::size_t>(ctx.image_width) != 0))
+    throw std::invalid_argument("image_width: the frame's rows must be height x image_width pixels "
+                                "(an organized cloud); pass 0 for an unorganized cloud");
+  if (ctx.camera_position && !ctx.camera_position->allFinite())
+    throw std::invalid_argument("camera_position must be 3 finite numbers");
+}
+}  // namespace
+
+SceneFilterResult SceneFilter::process(const float* xyz, std::size_t n_rows, std::size_t row_stride,
+                                       const FrameContext& ctx) {
+  check_context(n_rows, ctx);
   return process_frame(xyz, n_rows, row_stride, params_, persistence_, next_frame_seed(),
-                       out_of_range_reported_, work_);
+                       out_of_range_reported_, work_, ctx);
 }
 
-SceneFilterResult SceneFilter::process(const double* xyz, std::size_t n_rows, std::size_t row_stride) {
+SceneFilterResult SceneFilter::process(const double* xyz, std::size_t n_rows, std::size_t row_stride,
+                                       const FrameContext& ctx) {
+  check_context(n_rows, ctx);
   return process_frame(xyz, n_rows, row_stride, params_, persistence_, next_frame_seed(),
-                       out_of_range_reported_, work_);
+                       out_of_range_reported_, work_, ctx);
 }
 
 std::uint64_t SceneFilter::next_frame_seed() {

@@ -138,6 +138,18 @@ class SceneFilterParams:
     SPEC 1.6 scene filter parameters
     """
     plane_lock: bool
+    #: (issue 12) organized segmentation and the range-dependent minimum object height
+    segment_organized: bool
+    segment_smooth_radius_px: int
+    segment_max_step_m: float
+    segment_max_hue_diff_deg: float
+    segment_min_saturation: float
+    segment_min_brightness: float
+    segment_absorb_max_points: int
+    depth_noise_sigma_m: float
+    depth_noise_ref_range_m: float
+    depth_noise_exponent: float
+    object_min_height_sigmas: float
     def __init__(self) -> None:
         ...
     @property
@@ -419,6 +431,11 @@ class ClusterInfo:
     """
     One connected component with >= min_points points
     """
+    #: (issue 12) the range-dependent minimum height (with the camera position)
+    height_m: float
+    range_m: float
+    min_height_m: float
+    too_low: bool
     @property
     def accepted(self) -> bool:
         ...
@@ -661,6 +678,9 @@ class SceneFilterResult:
     """
     Everything the scene filter computed for one frame
     """
+    #: (issue 12) segmented over the image; clusters refused by the minimum height
+    organized: bool
+    num_too_low: int
     @property
     def band(self) -> float:
         ...
@@ -1067,7 +1087,7 @@ class Perception:
     """
     def __init__(self, filter_params: SceneFilterParams, obb_params: ObbParams) -> None:
         ...
-    def process(self, points: Points, camera_position: Vec3Like, time_s: float) -> PerceptionFrame:
+    def process(self, points: Points, camera_position: Vec3Like, time_s: float, image_width: int = 0, rgb: numpy.ndarray | None = None) -> PerceptionFrame:
         """
         One (N,3) float32/float64 frame in world coordinates with the camera position at capture and the capture time [s].
         """

@@ -194,7 +194,14 @@ def _add_perceive(sub: argparse._SubParsersAction) -> None:
                             "is then the cloud's origin (the camera)")
     p.add_argument("--json", type=Path, required=True, help="where to write the JSON report")
     p.add_argument("--png", type=Path, default=None, help="also write an RViz-like PNG snapshot")
-    _add_config_options(p, "scene_filter / obb", "cluster_eps=0.02")
+    p.add_argument("--max-range-m", dest="max_range_m", type=float, default=None, metavar="M",
+                   help="workspace: drop points farther than M metres from the camera "
+                        "(workspace.workspace_max_range_m; e.g. 1.5)")
+    p.add_argument("--crop", nargs=6, type=float, default=None,
+                   metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"),
+                   help="workspace: drop points outside this box in world coordinates [m] "
+                        "(workspace.workspace_crop_box_m)")
+    _add_config_options(p, "scene_filter / obb / workspace", "cluster_eps=0.02")
 
 
 def _checked(convert, ok, expected: str):
@@ -365,7 +372,7 @@ def _run(args: argparse.Namespace) -> int:
 
         run_perceive(args.file, T_world_camera=args.T_world_camera, up=args.up,
                      json_path=args.json, png_path=args.png, config_file=args.config,
-                     sets=args.sets)
+                     sets=args.sets, max_range_m=args.max_range_m, crop=args.crop)
         return 0
     raise AssertionError(f"unhandled command {args.command}")
 

@@ -210,6 +210,8 @@ def _report(cloud, T, frame_source, up, frame, plane, objects, settings, timings
         "input": {"path": str(cloud.path), "format": cloud.source_format, "points": len(cloud.points),
                   "invalid_points": cloud.num_invalid,
                   "out_of_range_points": int(getattr(frame.raw.filter, "num_out_of_range", 0)),
+                  "outside_workspace_points": int(frame.outside_workspace),
+                  "too_low_clusters": int(frame.raw.filter.num_too_low),
                   "organized": [cloud.height, cloud.width] if cloud.organized else None},
         "world_frame": {"source": frame_source, "T_world_camera": T.tolist(),
                         "up_in_camera": None if up is None else _vec(up)},
@@ -222,25 +224,48 @@ def _report(cloud, T, frame_source, up, frame, plane, objects, settings, timings
         "timings_ms": timings, "settings": settings.as_dict()}
 
 
+def _workspace_sets(max_range_m: float | None, crop: Sequence[float] | None) -> list[str]:
+    """``--max-range-m`` / ``--crop`` as ``--set`` items of the workspace section (they win
+    over ``--config`` and earlier ``--set``); InputError for a value the config refuses."""
+    sets = []
+    if max_range_m is not None:
+        if not (np.isfinite(max_range_m) and max_range_m > 0):
+            raise InputError(f"--max-range-m: expected a range > 0 m, got {max_range_m}")
+        sets.append(f"workspace.workspace_max_range_m={float(max_range_m)!r}")
+    if crop is not None:
+        sets.append(f"workspace.workspace_crop_box_m=[{', '.join(repr(float(v)) for v in crop)}]")
+    return sets
+
+
 def run_perceive(path: str | os.PathLike, *, T_world_camera: Sequence | None = None,
                  up: Sequence[float] | None = None, json_path: str | os.PathLike,
                  png_path: str | os.PathLike | None = None, config_file: str | None = None,
-                 sets: Sequence[str] = (), out=print) -> dict:
-    """Run the ``perceive`` command; returns the JSON report (also written to ``json_path``)."""
+                 sets: Sequence[str] = (), out=print, max_range_m: float | None = None,
+                 crop: Sequence[float] | None = None) -> dict:
+    """Run the ``perceive`` command; returns the JSON report (also written to ``json_path``).
+
+    ``max_range_m`` / ``crop`` (``--max-range-m`` / ``--crop``): the workspace
+    (:mod:`~grasp_pipeline.perception.workspace`); points outside it are dropped."""
     from .perception import PerceptionSession
     from .report.serialize import check_writable, write_json
     from .settings import load_settings
 
     T, frame_source = _world_transform(T_world_camera, up)
-    settings = load_settings(("scene_filter", "obb"), config_file, sets)
+    sets = list(sets) + _workspace_sets(max_range_m, crop)
+    settings = load_settings(("scene_filter", "obb", "workspace"), config_file, sets)
     check_writable(json_path, "report file (--json)")
     if png_path is not None:
         check_writable(png_path, "snapshot (--png)")
     cloud, t_load = _load(path)
     pts_world = (cloud.points.astype(np.float64) @ T[:3, :3].T + T[:3, 3]).astype(np.float32)
-    session = PerceptionSession(settings.scene_filter, settings.obb)
+    session = PerceptionSession(settings.scene_filter, settings.obb, settings.workspace)
     t1 = time.perf_counter()
+    # Files go through Euclidean clustering (SPEC 1.4), also organized ones: the organized
+    # segmentation needs the true camera position, which a file's transform may not give, and
+    # it still cuts slivers off steep side faces in some frames (issue 12, open).
     frame = session.process(pts_world, camera_position=T[:3, 3].copy(), time_s=0.0)
+    if frame.outside_workspace:
+        out(f"workspace: dropped {frame.outside_workspace} point(s) outside it")
     timings = {"load": 1e3 * t_load, "perception": 1e3 * (time.perf_counter() - t1)}
     plane = session.plane
     if plane is None:

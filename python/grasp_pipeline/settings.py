@@ -29,6 +29,7 @@ from .exceptions import ConfigError
 SECTIONS: Mapping[str, tuple[str, str]] = MappingProxyType({
     "scene_filter": ("grasp_pipeline.perception.config", "SceneFilterConfig"),
     "obb": ("grasp_pipeline.perception.config", "ObbConfig"),
+    "workspace": ("grasp_pipeline.perception.workspace", "WorkspaceConfig"),
     "camera": ("grasp_pipeline.sim.config", "CameraConfig"),
     "sim": ("grasp_pipeline.sim.config", "SimConfig"),
     "clutter": ("grasp_pipeline.sim.clutter_config", "ClutterConfig"),

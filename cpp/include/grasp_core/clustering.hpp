@@ -20,7 +20,24 @@ struct ClusterInfo {
   double extent_m = 0.0;          ///< diagonal of its axis-aligned box ||max - min|| [m]
   Vec3 min = Vec3::Zero();        ///< AABB corners [m]
   Vec3 max = Vec3::Zero();
-  bool accepted = false;          ///< min_extent <= extent <= max_extent (max <= 0: no upper bound)
+  bool accepted = false;          ///< min_extent <= extent <= max_extent (max <= 0: no upper bound) and the height rule
+  double height_m = 0.0;          ///< with a HeightRule: 90th percentile of its points' heights above the table [m]
+  double range_m = 0.0;           ///< with a HeightRule: camera -> centroid distance [m]
+  double min_height_m = 0.0;      ///< with a HeightRule: the height it needed (sigmas x noise at range_m) [m]
+  bool too_low = false;           ///< refused by the HeightRule (height_m < min_height_m)
+};
+
+/// (ours, issue 12) Range-dependent minimum object height: depth noise grows with range, so
+/// far away a patch of noise above the band looks like a low object. A component is an object
+/// only if the 90th percentile of its points' heights above `table` is >= sigmas x
+/// noise_at(range), range = distance from `camera` to the component's centroid.
+struct HeightRule {
+  Plane table;
+  Vec3 camera = Vec3::Zero();
+  double sigmas = 0.0;            ///< <= 0: the rule never refuses
+  double noise_sigma_m = 0.002;   ///< noise sigma at ref_range_m [m]
+  double ref_range_m = 0.4;       ///< [m]
+  double exponent = 2.0;          ///< sigma(r) = noise_sigma_m * (r / ref_range_m)^exponent
 };
 
 struct ClusterResult {
@@ -66,7 +83,17 @@ struct ClusterResult {
 ClusterResult euclidean_clusters(const float* xyz, std::size_t n_rows,
                                  std::size_t row_stride_floats, double eps_m, int min_points,
                                  double min_extent_m, double max_extent_m, double voxel_m,
-                                 double max_abs_coordinate_m = kDefaultMaxAbsCoordinate_m);
+                                 double max_abs_coordinate_m = kDefaultMaxAbsCoordinate_m,
+                                 const HeightRule* height_rule = nullptr);
+
+/// Labels and cluster infos of a given partition of n_rows valid rows (all finite):
+/// comp[i] in [0, n_rows) is row i's component id (any ids). The rules of
+/// euclidean_clusters(): min_points, extents, compact labels by decreasing size, plus the
+/// optional height rule. Used by the organized segmentation.
+ClusterResult clusters_from_components(const float* xyz, std::size_t n_rows,
+                                       std::size_t row_stride_floats, const std::vector<int>& comp,
+                                       int min_points, double min_extent_m, double max_extent_m,
+                                       const HeightRule* height_rule = nullptr);
 /// Convenience overloads (same semantics; for double input the bound is checked before the
 /// conversion to float).
 ClusterResult euclidean_clusters(const PointsF& points, double eps_m, int min_points,

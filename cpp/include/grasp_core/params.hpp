@@ -37,6 +37,27 @@ struct SceneFilterParams {
   /// counted (SceneFilterResult::num_out_of_range), like NaN rows. In (0, 1e9].
   double max_abs_coordinate_m = kDefaultMaxAbsCoordinate_m;
 
+  // (ours, issue 12) Organized segmentation of the candidates (organized_segmentation.hpp):
+  // used when the frame is organized (an image width is given), else Euclidean clustering.
+  bool segment_organized = true;         ///< organized frames: image-neighbour segmentation
+  int segment_smooth_radius_px = 2;      ///< half-width of the range smoothing window [px]
+  double segment_max_step_m = 0.006;     ///< max smoothed range step between neighbour pixels at depth_noise_ref_range_m [m]
+  double segment_max_hue_diff_deg = 20.0; ///< max hue difference of linked neighbours [deg]; <= 0: colour unused
+  double segment_min_saturation = 0.25;   ///< hue compared only where both pixels' saturation (max-min)/max >= this
+  double segment_min_brightness = 30.0;   ///< ... and their max channel >= this (0..255)
+  int segment_absorb_max_points = 100;    ///< smaller segments join the large one they touch most (within cluster_eps); 0: never
+  // (ours, issue 12) Depth noise model of the sensor: sigma(r) = depth_noise_sigma_m * (r / ref)^exp.
+  double depth_noise_sigma_m = 0.002;    ///< depth noise sigma at depth_noise_ref_range_m [m]
+  double depth_noise_ref_range_m = 0.4;  ///< [m]
+  double depth_noise_exponent = 2.0;     ///< growth of the noise with range (2: structured light / ToF)
+  /// (ours, issue 12) A cluster is an object only if its robust height above the table (90th
+  /// percentile of its points' heights) is >= this many sigma(range) at its centroid's range
+  /// from the camera. 0 disables the rule (also when the camera position is unknown).
+  double object_min_height_sigmas = 1.0;
+
+  /// The depth noise model: depth_noise_sigma_m * (range_m / depth_noise_ref_range_m)^depth_noise_exponent [m].
+  double depth_noise_at(double range_m) const;
+
   /// Throws std::invalid_argument naming the offending parameter.
   void validate() const;
 };

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -42,10 +43,14 @@ class Perception {
   /// One frame in world coordinates: row i at xyz + i * row_stride (elements, >= 3).
   /// `camera_position` is the camera position at capture; `time_s` the capture time,
   /// which must not go backwards (std::invalid_argument otherwise).
+  /// (issue 12) `image_width` > 0: the frame is organized (row v * image_width + u is pixel
+  /// (u, v)); `rgb`: nullptr or n_rows x 3 bytes of colour, one per row (FrameContext).
   PerceptionFrame process(const float* xyz, std::size_t n_rows, std::size_t row_stride,
-                          const Vec3& camera_position, double time_s);
+                          const Vec3& camera_position, double time_s, int image_width = 0,
+                          const std::uint8_t* rgb = nullptr);
   PerceptionFrame process(const double* xyz, std::size_t n_rows, std::size_t row_stride,
-                          const Vec3& camera_position, double time_s);
+                          const Vec3& camera_position, double time_s, int image_width = 0,
+                          const std::uint8_t* rgb = nullptr);
 
   const SceneFilter& scene_filter() const { return filter_; }
   const Tracker& tracker() const { return tracker_; }
@@ -58,7 +63,8 @@ class Perception {
  private:
   template <typename T>
   PerceptionFrame process_impl(const T* xyz, std::size_t n_rows, std::size_t row_stride,
-                               const Vec3& camera_position, double time_s);
+                               const Vec3& camera_position, double time_s, int image_width,
+                               const std::uint8_t* rgb);
 
   SceneFilter filter_;
   ObbParams obb_;

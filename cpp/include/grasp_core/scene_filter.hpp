@@ -4,6 +4,7 @@
 #pragma once
 
 #include "grasp_core/clustering.hpp"
+#include "grasp_core/organized_segmentation.hpp"
 #include "grasp_core/params.hpp"
 #include "grasp_core/plane_fit.hpp"
 #include "grasp_core/plane_persistence.hpp"
@@ -15,6 +16,20 @@
 #include <vector>
 
 namespace grasp_core {
+
+/// (ours, issue 12) What a frame may say besides its points. All optional.
+struct FrameContext {
+  /// > 0: the frame is organized, row v * image_width + u is pixel (u, v) (NaN rows where
+  /// invalid), and the candidates are segmented over the image (organized_segmentation.hpp)
+  /// when params.segment_organized; 0: Euclidean clustering (SPEC 1.4).
+  int image_width = 0;
+  /// nullptr or (rows) x 3 bytes: the colour of each row's pixel (row-major RGB), used by the
+  /// organized segmentation's colour test.
+  const std::uint8_t* rgb = nullptr;
+  /// The camera position at capture: needed by the organized segmentation (ranges) and the
+  /// range-dependent minimum object height; without it neither is used.
+  std::optional<Vec3> camera_position;
+};
 
 /// One plane of the sequential extraction (SPEC 1.2).
 struct PlaneCandidate {
@@ -81,6 +96,8 @@ struct SceneFilterResult {
   double ms_plane = 0.0;             ///< plane extraction + table choice + persistence [ms]
   double ms_cluster = 0.0;           ///< band split + clustering [ms]
   double ms_total = 0.0;             ///< whole process() call [ms]
+  bool organized = false;            ///< (issue 12) the candidates were segmented over the image
+  int num_too_low = 0;               ///< (issue 12) clusters refused by the range-dependent minimum height
 };
 
 /// Reusable whole-frame buffers of the scene filter (ours: frames of a constant size
@@ -92,6 +109,7 @@ struct SceneFilterWorkspace {
   std::vector<std::uint8_t> inlier;  ///< per packed point: inlier of the current plane
   std::vector<float> cand_xyz;       ///< clustering input: points above the band, xyz interleaved
   std::vector<int> cand_rows;        ///< input row of each candidate
+  OrganizedWorkspace organized;      ///< buffers of the organized segmentation
 };
 
 /// The per-frame scene filter (SPEC 1). Owns the plane persistence, so one instance per
@@ -111,8 +129,11 @@ class SceneFilter {
   /// input values, then coordinates are processed as float (float resolution is < 0.1 um
   /// at workspace scale).
   /// Every call is one frame: it advances frame_index() and the persistence state.
-  SceneFilterResult process(const float* xyz, std::size_t n_rows, std::size_t row_stride);
-  SceneFilterResult process(const double* xyz, std::size_t n_rows, std::size_t row_stride);
+  /// `ctx`: organization, colour and camera position of the frame (see FrameContext).
+  SceneFilterResult process(const float* xyz, std::size_t n_rows, std::size_t row_stride,
+                            const FrameContext& ctx = {});
+  SceneFilterResult process(const double* xyz, std::size_t n_rows, std::size_t row_stride,
+                            const FrameContext& ctx = {});
   SceneFilterResult process(const PointsF& points);
   SceneFilterResult process(const PointsD& points);
 

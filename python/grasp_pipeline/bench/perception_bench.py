@@ -25,13 +25,14 @@ from tqdm import tqdm
 from .. import _core
 from ..perception.config import ObbConfig, SceneFilterConfig
 from ..report.serialize import write_json
-from ..perception.synthetic import tabletop_frame
+from ..perception.synthetic import PinholeCamera, tabletop_frame
 
 log = logging.getLogger(__name__)
 
 TARGET_MEDIAN_MS = 10.0
 TARGET_SPEEDUP = 20.0
 DISTINCT_FRAMES = 4  # noise realisations cycled through (each frame is new to the filter)
+FRAME_WIDTH_PX = PinholeCamera().width_px  # the synthetic frames' image width
 
 
 def open3d_available() -> bool:
@@ -75,7 +76,8 @@ def _time_frames(per, clouds: list, frames: int, warmup_frames: int) -> tuple[li
     for i in tqdm(range(warmup_frames + frames), desc="perception", unit="frame"):
         pts, T = clouds[i % DISTINCT_FRAMES]
         t0 = time.perf_counter()
-        out = per.process(pts, T[:3, 3], t_sim)
+        # The frame is organized (640 x 480, row v*W + u): the organized segmentation runs.
+        out = per.process(pts, T[:3, 3], t_sim, FRAME_WIDTH_PX)
         dt = (time.perf_counter() - t0) * 1e3
         t_sim += 1.0 / 30.0
         if i < warmup_frames:

@@ -89,7 +89,8 @@ class PerceptionLoop:
         T = np.asarray(frame.T_world_camera)
         if self.events.wants(FrameEvent):
             self.events.publish(FrameEvent(float(frame.time_s), frame, None if q is None else np.array(q)))
-        res = self.session.process(frame.points_world, T[:3, 3], frame.time_s)
+        res = self.session.process(frame.points_world, T[:3, 3], frame.time_s,
+                                   image_width_px=frame.width, rgb=frame.rgb)
         if self.ready_camera_pose is None:
             self.ready_camera_pose = T.copy()
         self.latest = FrameInfo(float(frame.time_s), T, res, None if q is None else np.array(q))

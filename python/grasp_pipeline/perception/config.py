@@ -130,6 +130,16 @@ _SCENE_FILTER_RANGES = {
     "cluster_voxel_m": _Range(0, 1.0, hi_open=True, unit=" m"),
     "seed": _Range(0, _UINT64_MAX),
     "max_abs_coordinate_m": _Range(0, 1e9, lo_open=True, unit=" m"),
+    "segment_smooth_radius_px": _Range(0, 10, unit=" px"),
+    "segment_max_step_m": _Range(0, 1.0, lo_open=True, unit=" m"),
+    "segment_max_hue_diff_deg": _Range(None, 180.0, unit=" deg (<= 0: colour unused)"),
+    "segment_min_saturation": _Range(0, 1),
+    "segment_min_brightness": _Range(0, 255),
+    "segment_absorb_max_points": _Range(0, 10_000_000, unit=" (0: never)"),
+    "depth_noise_sigma_m": _Range(0, 0.1, lo_open=True, unit=" m"),
+    "depth_noise_ref_range_m": _Range(0, 100, lo_open=True, unit=" m"),
+    "depth_noise_exponent": _Range(0, 4),
+    "object_min_height_sigmas": _Range(0, 100, unit=" (0 disables)"),
 }
 
 #: SPEC 2.7 ranges (the C++ ObbParams::validate()); cross-field rules in validate().
@@ -181,6 +191,21 @@ class SceneFilterConfig:
     #: and counted (``num_out_of_range``) like NaN rows. Keep equal to the C++ default and
     #: config/scene_filter.yaml.
     max_abs_coordinate_m: float = 1000.0
+    #: (ours, issue 12) organized frames: segment the candidates over the image (range steps,
+    #: colour boundaries) instead of Euclidean clustering; see organized_segmentation.hpp.
+    segment_organized: bool = True
+    segment_smooth_radius_px: int = 2
+    segment_max_step_m: float = 0.006
+    segment_max_hue_diff_deg: float = 20.0
+    segment_min_saturation: float = 0.25
+    segment_min_brightness: float = 30.0
+    segment_absorb_max_points: int = 100
+    #: (ours, issue 12) depth noise model sigma(r) = sigma * (r / ref)^exponent, and the
+    #: range-dependent minimum object height (in sigmas of it; 0 disables).
+    depth_noise_sigma_m: float = 0.002
+    depth_noise_ref_range_m: float = 0.4
+    depth_noise_exponent: float = 2.0
+    object_min_height_sigmas: float = 1.0
 
     def __post_init__(self) -> None:
         self.validate()

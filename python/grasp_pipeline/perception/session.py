@@ -31,6 +31,7 @@ import numpy as np
 
 from .. import _core
 from .config import ObbConfig, SceneFilterConfig
+from .workspace import WorkspaceConfig
 
 log = logging.getLogger("grasp_pipeline.perception")
 
@@ -47,7 +48,9 @@ class FrameResult:
     """Perception output of one frame (``raw`` is the core's PerceptionFrame)."""
 
     raw: "_core.PerceptionFrame"
-    points: np.ndarray  # the caller's (N, 3) array, not copied
+    points: np.ndarray  # the caller's (N, 3) array, not copied (a copy with NaN rows when a
+    #                     workspace dropped some, see :mod:`.workspace`)
+    outside_workspace: int = 0  # rows dropped by the workspace (counted in num_invalid too)
 
     @property
     def labels(self) -> np.ndarray:
@@ -89,9 +92,12 @@ class PerceptionSession:
     """
 
     def __init__(self, filter_config: SceneFilterConfig | None = None,
-                 obb_config: ObbConfig | None = None) -> None:
+                 obb_config: ObbConfig | None = None,
+                 workspace: WorkspaceConfig | None = None) -> None:
+        """``workspace``: drop points outside it before the scene filter (default: none)."""
         self.filter_config = filter_config or SceneFilterConfig()
         self.obb_config = obb_config or ObbConfig()
+        self.workspace = workspace or WorkspaceConfig()
         self._core = _core.Perception(self.filter_config.to_core(), self.obb_config.to_core())
 
     @property
@@ -123,9 +129,19 @@ class PerceptionSession:
         return list(self._core.tracker.tracks)
 
     # ---- per frame ---------------------------------------------------------------
-    def process(self, points: np.ndarray, camera_position, time_s: float) -> FrameResult:
-        """One frame: (N, 3) float32/float64 world points, camera position at capture, time."""
-        raw = self._core.process(points, camera_position, float(time_s))
+    def process(self, points: np.ndarray, camera_position, time_s: float,
+                image_width_px: int = 0, rgb: Optional[np.ndarray] = None) -> FrameResult:
+        """One frame: (N, 3) float32/float64 world points, camera position at capture, time.
+
+        ``image_width_px`` > 0: the frame is organized (row ``v*W + u`` is pixel (u, v), as
+        :class:`~grasp_pipeline.robot.frame.Frame` delivers it) and the object candidates are
+        segmented over the image (``scene_filter.segment_*``); 0: an unorganized cloud
+        (Euclidean clustering, SPEC 1.4). ``rgb``: None or the (H, W, 3) uint8 colour image
+        aligned with the rows, read in place (its colour boundaries separate touching objects)."""
+        points, outside = self.workspace.apply(points, camera_position)
+        raw = self._core.process(points, camera_position, float(time_s), int(image_width_px), rgb)
+        if outside:
+            log.debug("workspace: dropped %d point(s) outside it", outside)
         for ev in raw.filter.events:
             log.log(_LEVELS.get(ev.level, logging.INFO), "%s", ev.message)
         if raw.filter.num_invalid:
@@ -137,7 +153,7 @@ class PerceptionSession:
         if raw.tids:
             log.debug("views: %s", ", ".join(
                 f"#{tid} {v.quality.name.lower()}" for tid, v in zip(raw.tids, raw.views)))
-        return FrameResult(raw=raw, points=points)
+        return FrameResult(raw=raw, points=points, outside_workspace=outside)
 
     def view_labels(self, frame: FrameResult) -> str:
         """``#0 nadir, #1 oblique`` for the log lines users know."""

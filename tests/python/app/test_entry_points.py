@@ -163,3 +163,32 @@ def test_bad_input_gives_a_one_line_error(args, words, work):
     lines = [ln for ln in res.stderr.splitlines() if ln.strip()]
     errors = [ln for ln in lines if "error" in ln.lower()]
     assert errors and words in errors[-1], res.stderr[-2000:]
+
+
+def test_perceive_workspace_options_drop_far_points_and_far_noise(work):
+    """Issue 12: ``--max-range-m`` and ``--crop`` on a real-capture-like floor cloud (near
+    objects, far noise patches), run as a user runs them."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "core"))
+    from real_capture_like import CAMERA, NEAR_BOXES, floor_capture
+
+    np.save(work / "floor.npy", floor_capture() - CAMERA.astype(np.float32))  # camera frame
+    T = np.eye(4)
+    T[:3, 3] = CAMERA
+    pose = " ".join(str(float(v)) for v in T.reshape(-1))
+    res = run_cli(["perceive", "floor.npy", "--T-world-camera", pose, "--max-range-m", "1.5",
+                   "--json", "near.json"], None, work)
+    assert res.returncode == 0, res.stderr[-2000:]
+    near = strict_json(work / "near.json")
+    assert near["input"]["outside_workspace_points"] > 10_000
+    assert near["settings"]["workspace"]["workspace_max_range_m"] == 1.5
+    assert len(near["objects"]) == len(NEAR_BOXES)
+    assert "outside it" in res.stdout
+    res = run_cli(["perceive", "floor.npy", "--T-world-camera", pose, "--crop", "0.4", "0.7",
+                   "-0.3", "0.3", "-0.1", "0.5", "--json", "crop.json"], None, work)
+    assert res.returncode == 0, res.stderr[-2000:]
+    crop = strict_json(work / "crop.json")
+    assert crop["settings"]["workspace"]["workspace_crop_box_m"] == [0.4, 0.7, -0.3, 0.3, -0.1, 0.5]
+    assert len(crop["objects"]) == len(NEAR_BOXES)
+    bad = run_cli(["perceive", "floor.npy", "--T-world-camera", pose, "--crop", "1", "0", "0",
+                   "1", "0", "1", "--json", "bad.json"], None, work)
+    assert bad.returncode != 0 and "workspace_crop_box_m" in bad.stderr
