@@ -37,7 +37,7 @@ class CartesianPlanner:
     def plan(self, q_start: np.ndarray, T_goal: np.ndarray, frame: str = "tcp",
              allow_target_contact: bool = False) -> JointPath:
         """Joint path following the straight line to ``T_goal`` (``frame`` = "tcp" | "flange")."""
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.thread_time()
         cfg = self.config
         q = validate_joints(q_start, "start joints")
         T_goal = validate_pose(T_goal, f"{frame} goal pose")
@@ -83,7 +83,7 @@ class CartesianPlanner:
         finally:
             v.allow_target_contact = prev_flag
         return JointPath(path, (time.perf_counter() - t0) * 1e3, "cartesian", 0,
-                         v.checked_states - n0)
+                         v.checked_states - n0, (time.thread_time() - c0) * 1e3)
 
     def _step_ik(self, T: np.ndarray, q_prev: np.ndarray, k: int, n: int, dist: float) -> np.ndarray:
         cfg = self.config
