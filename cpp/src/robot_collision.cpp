@@ -459,6 +459,41 @@ bool StateChecker::check_segment(const double* qa, const double* qb, double max_
   return ok;
 }
 
+bool StateChecker::first_invalid_on_path(const double* W, std::size_t m, double max_step_rad,
+                                         long long* segment, long long* index) const {
+  if (!(max_step_rad > 0.0) || !std::isfinite(max_step_rad))
+    throw std::invalid_argument("first_invalid_on_path: max_step_rad must be finite and > 0");
+  *segment = -1;
+  *index = -1;
+  const auto sc = scene();
+  Evaluator ev(*robot_, *sc, allow_target_contact());
+  double q[kArmJoints];
+  std::uint64_t done = 0;
+  bool ok = true;
+  for (std::size_t k = 0; ok && k + 1 < m; ++k) {
+    const double* qa = W + k * kArmJoints;
+    const double* qb = qa + kArmJoints;
+    double span = 0.0;
+    for (int j = 0; j < kArmJoints; ++j) span = std::max(span, std::abs(qb[j] - qa[j]));
+    const double steps = std::ceil(span / max_step_rad);
+    if (!(steps < 1e9)) throw std::invalid_argument("first_invalid_on_path: more than 1e9 states on a segment");
+    const long long n = std::max(1LL, static_cast<long long>(steps));
+    for (long long i = 1; i <= n; ++i) {
+      const double s = static_cast<double>(i) / static_cast<double>(n);
+      for (int j = 0; j < kArmJoints; ++j) q[j] = qa[j] + (qb[j] - qa[j]) * s;
+      ++done;
+      if (!ev.valid(q)) {
+        ok = false;
+        *segment = static_cast<long long>(k);
+        *index = i - 1;
+        break;
+      }
+    }
+  }
+  checked_.fetch_add(done, std::memory_order_relaxed);
+  return ok;
+}
+
 void StateChecker::sphere_centres(const double* q, Vec3* out) const {
   const auto sc = scene();
   Evaluator ev(*robot_, *sc, false);

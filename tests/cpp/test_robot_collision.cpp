@@ -175,3 +175,31 @@ TEST(StateChecker, PartialPairListUsesTheListPath) {
   EXPECT_FALSE(c.check(q_of(0, 2.99).data()));  // the paired tool sphere still hits the base
   EXPECT_TRUE(StateChecker(std::make_shared<RobotCollisionModel>(arm_spec()), free_scene()).robot().complete_link_pairs());
 }
+
+TEST(StateChecker, FirstInvalidOnPathIsTheFirstInvalidDenseState) {
+  auto scene = free_scene();
+  scene->boxes.emplace_back(Vec3(0.0, 0.95, kBaseZ_m), Mat3::Identity(), Vec3(0.1, 0.1, 0.1));
+  StateChecker c = checker(scene);
+  const double step = 0.01;
+  // waypoints sweeping joint 0 from 0 to 1 rad and on to 2.5 rad: the tool meets the box near pi/2
+  const double W[3][kArmJoints] = {{0, 0, 0, 0, 0, 0, 0}, {1.0, 0, 0, 0, 0, 0, 0}, {2.5, 0, 0, 0, 0, 0, 0}};
+  long long seg = -2, idx = -2;
+  EXPECT_FALSE(c.first_invalid_on_path(&W[0][0], 3, step, &seg, &idx));
+  // the same answer by checking the dense states one by one in order
+  long long want_seg = -1, want_idx = -1;
+  for (int k = 0; k < 2 && want_seg < 0; ++k) {
+    const long long n = static_cast<long long>(std::ceil((W[k + 1][0] - W[k][0]) / step));
+    for (long long i = 1; i <= n; ++i) {
+      const double s = static_cast<double>(i) / static_cast<double>(n);
+      const auto q = q_of(W[k][0] + (W[k + 1][0] - W[k][0]) * s, 0);
+      if (!c.check(q.data())) { want_seg = k; want_idx = i - 1; break; }
+    }
+  }
+  EXPECT_EQ(seg, 1);
+  EXPECT_EQ(seg, want_seg);
+  EXPECT_EQ(idx, want_idx);
+  EXPECT_TRUE(c.first_invalid_on_path(&W[0][0], 2, step, &seg, &idx));
+  EXPECT_EQ(seg, -1);
+  EXPECT_TRUE(c.first_invalid_on_path(&W[0][0], 1, step, &seg, &idx));  // no segment
+  EXPECT_THROW(c.first_invalid_on_path(&W[0][0], 3, 0.0, &seg, &idx), std::invalid_argument);
+}

@@ -120,6 +120,11 @@ class StateChecker {
   /// Every state qa + (qb - qa) * k / n, k = (include_start ? 0 : 1) .. n, with
   /// n = max(1, ceil(max|qb - qa| / max_step_rad)); coarse-to-fine order, first invalid ends it.
   bool check_segment(const double* qa, const double* qb, double max_step_rad, bool include_start) const;
+  /// Dense check of the polyline W (m, 7): per segment k the states qa + (qb - qa) * i / n,
+  /// i = 1 .. n, n = max(1, ceil(max|qb - qa| / max_step_rad)) (the start W[0] is not checked),
+  /// in path order; returns false at the first invalid state with its segment and i - 1.
+  bool first_invalid_on_path(const double* W, std::size_t m, double max_step_rad, long long* segment,
+                             long long* index) const;
   /// World sphere centres (S) for q (diagnostics and tests).
   void sphere_centres(const double* q, Vec3* out) const;
 
