@@ -60,7 +60,7 @@ void bind_ik(py::module_& m) {
   py::class_<ArmIK, std::shared_ptr<ArmIK>>(
       m, "ArmIK",
       "Gauss-Newton refinement of arm joints to a flange pose on the exported chain "
-      "(motion/ik.py's refinement loop in C++): refine, refine_batch, refine_line.")
+      "(motion/ik.py's refinement loop in C++): flange_pose, refine_batch, refine_line.")
       .def(py::init(&make_ik), py::arg("chain"), py::arg("flange_body"), py::arg("q_min_rad"),
            py::arg("q_max_rad"), py::arg("iterations"), py::arg("tol_m"), py::arg("tol_rad"),
            py::arg("accept_m"), py::arg("accept_rad"), py::arg("limit_eps_rad"))

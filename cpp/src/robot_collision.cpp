@@ -259,9 +259,15 @@ class Evaluator {
     const bool cleared_here = allow_ && link.has_hand &&
                               !(sc_.cleared.box().distance(cb) - rad > sc_.cleared.pad_m() + kBoundSlack_m);
     if (sc_.has_env && !sc_.field.empty()) {
-      const double d = sc_.field.at(cb);
-      map_clear = !cleared_here && d < kInfinity &&
-                  d - kSqrt3 * sc_.field.voxel_m - rad - margin - sc_.field.inflation_m >= kBoundSlack_m;
+      // The bound lies wholly outside the grid: every sphere's lookup is +inf (clear).
+      // Else, inside the grid, the value at cb bounds every sphere's value (1-Lipschitz field).
+      if (sc_.field.distance_to_grid(cb) > rad + kBoundSlack_m) {
+        map_clear = !cleared_here;
+      } else {
+        const double d = sc_.field.at(cb);
+        map_clear = !cleared_here && d < kInfinity &&
+                    d - kSqrt3 * sc_.field.voxel_m - rad - margin - sc_.field.inflation_m >= kBoundSlack_m;
+      }
     } else if (sc_.has_env) {
       map_clear = !cleared_here;
     }

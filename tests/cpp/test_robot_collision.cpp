@@ -203,3 +203,41 @@ TEST(StateChecker, FirstInvalidOnPathIsTheFirstInvalidDenseState) {
   EXPECT_TRUE(c.first_invalid_on_path(&W[0][0], 1, step, &seg, &idx));  // no segment
   EXPECT_THROW(c.first_invalid_on_path(&W[0][0], 3, 0.0, &seg, &idx), std::invalid_argument);
 }
+
+TEST(StateChecker, EqualsSphereBySphereReferenceInAndAroundTheGrid) {
+  // A small map (40 voxels of 1 cm around one occupied voxel near the arm's reach) and a box:
+  // most states put the links' bounding spheres outside, across or inside the grid. The
+  // checker's verdict must equal testing every sphere and pair (the reference below).
+  auto scene = free_scene();
+  scene->has_env = true;
+  scene->field = one_voxel_field(Vec3(0.6, 0.3, kBaseZ_m), 0.01);
+  scene->boxes.emplace_back(Vec3(-0.5, 0.5, kBaseZ_m), Mat3::Identity(), Vec3::Constant(0.1));
+  const auto model = std::make_shared<RobotCollisionModel>(arm_spec());
+  StateChecker c(model, scene);
+  const RobotCollisionSpec& s = model->spec();
+  const CollisionScene& sc = *scene;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  std::vector<Vec3> C(static_cast<std::size_t>(model->num_spheres()));
+  int valid = 0, n = 0;
+  for (int k = 0; k < 20000; ++k, ++n) {
+    const auto q = q_of(u(rng), u(rng));
+    c.sphere_centres(q.data(), C.data());
+    bool ok = true;
+    for (std::size_t i = 0; i < C.size(); ++i) {
+      if (!s.env_sphere[i]) continue;
+      const double r = s.sphere_radius[i];
+      ok = ok && (C[i].z() - r) - sc.floor_z_m >= 0.0;
+      ok = ok && sc.field.at(C[i]) - ((r + sc.collision_margin_m) + sc.field.inflation_m) >= 0.0;
+      for (const ObstacleBox& b : sc.boxes) ok = ok && b.distance(C[i]) - (r + sc.collision_margin_m) >= 0.0;
+    }
+    for (const auto& pr : s.pairs)
+      ok = ok && (C[static_cast<std::size_t>(pr.first)] - C[static_cast<std::size_t>(pr.second)]).norm() -
+                         (s.sphere_radius[static_cast<std::size_t>(pr.first)] + s.sphere_radius[static_cast<std::size_t>(pr.second)]) >=
+                     s.self_margin_m;
+    ASSERT_EQ(c.check(q.data()), ok) << "q = " << q[0] << ", " << q[1];
+    valid += ok;
+  }
+  EXPECT_GT(valid, n / 5);
+  EXPECT_LT(valid, n - n / 20);
+}

@@ -14,7 +14,9 @@
 // Speed: bounding spheres per link (in the link frame, posed by one transform) are tested
 // first and settle most links without posing their spheres; they are conservative (a
 // link-level "clear" implies every member sphere passes the exact test, with a 1 µm
-// allowance for the float32 distance field), so results equal the sphere-level test.
+// allowance for the float32 distance field), so results equal the sphere-level test. A link
+// bound wholly outside the map's grid is clear of the map at once (every sphere's lookup
+// would be +inf): most links of random states are, and this saves ~90 lookups per state.
 // Self-collision: per checked link pair a descent of both links' bounding-sphere trees
 // (or link pair -> geom pair -> sphere pair when the pair list is not whole link pairs).
 #pragma once
