@@ -295,9 +295,9 @@ class Evaluator {
 
   bool sphere_map_ok(int i, const Vec3& c, double r) const {
     if (!sc_.has_env) return true;
-    double d = sc_.field.at(c);
-    if (allow_ && s_.hand_sphere[static_cast<std::size_t>(i)] && sc_.cleared.near(c)) d = sc_.cleared.distance(c);
-    return d - ((r + sc_.collision_margin_m) + sc_.field.inflation_m) >= 0.0;
+    const double thr = (r + sc_.collision_margin_m) + sc_.field.inflation_m;
+    if (allow_ && s_.hand_sphere[static_cast<std::size_t>(i)] && sc_.cleared.near(c)) return !sc_.cleared.blocked(c, thr);
+    return sc_.field.at(c) - thr >= 0.0;
   }
 
   bool self_ok() { return m_.complete_link_pairs() ? self_ok_trees() : self_ok_lists(); }

@@ -162,6 +162,31 @@ TEST(ClearedRegion, NearestDistanceEqualsBruteForce) {
   }
 }
 
+TEST(ClearedRegion, BlockedEqualsTheNearestDistanceTest) {
+  std::mt19937 gen(9);
+  std::uniform_real_distribution<double> u(-0.3, 0.3);
+  std::uniform_real_distribution<double> t(-0.02, 0.12);
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 2000; ++i) pts.emplace_back(u(gen), u(gen), 0.1 * u(gen));
+  const double pad = 0.09, fine = 0.002, infl = 0.017;
+  const ClearedRegion region(ObstacleBox(Vec3::Zero(), Mat3::Identity(), Vec3::Constant(0.1)), pad, pts, fine, infl);
+  EXPECT_FALSE(ClearedRegion().blocked(Vec3::Zero(), 1.0));
+  int blocked = 0;
+  for (int k = 0; k < 20000; ++k) {
+    const Vec3 p(1.2 * u(gen), 1.2 * u(gen), 0.5 * u(gen));
+    double thr = t(gen);
+    if (k % 4 == 0) {  // thresholds at the decision boundary of the nearest point
+      const double d = region.distance(p);
+      if (d < kInfinity) thr = d + (k % 8 == 0 ? 0.0 : 1e-17);
+    }
+    const bool want = !(region.distance(p) - thr >= 0.0);
+    ASSERT_EQ(region.blocked(p, thr), want) << k;
+    blocked += want;
+  }
+  EXPECT_GT(blocked, 1000);
+  EXPECT_LT(blocked, 19000);
+}
+
 TEST(StateChecker, PartialPairListUsesTheListPath) {
   auto spec = arm_spec();
   // a second tool sphere, paired with nothing: the pair list no longer covers whole link pairs

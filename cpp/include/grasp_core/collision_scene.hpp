@@ -93,6 +93,11 @@ class ClearedRegion {
   bool near(const Vec3& p) const { return box_.distance(p) <= pad_; }
   /// (nearest kept point distance - fine) + inflation, +inf if no point within pad.
   double distance(const Vec3& p) const;
+  /// distance(p) - threshold < 0, without finding the nearest point: true when some kept
+  /// point at d < pad has (d - fine) + inflation - threshold < 0. The same answer, since that
+  /// expression never decreases with d (so the nearest point fails whenever any point does);
+  /// only the cells within reach of such a point are visited, and the first one ends it.
+  bool blocked(const Vec3& p, double threshold) const;
 
  private:
   double nearest_sq(const Vec3& p) const;
