@@ -13,6 +13,7 @@
 
 #include "grasp_core/collision_scene.hpp"
 #include "grasp_core/robot_collision.hpp"
+#include "planning_input.hpp"
 
 namespace py = pybind11;
 using namespace grasp_core;
@@ -21,101 +22,15 @@ namespace grasp_bind {
 
 namespace {
 
-using Arr = py::array_t<double, py::array::c_style | py::array::forcecast>;
-
-std::string shape_str(const py::array& a) {
-  std::ostringstream os;
-  os << "(";
-  for (py::ssize_t i = 0; i < a.ndim(); ++i) os << (i ? ", " : "") << a.shape(i);
-  os << (a.ndim() == 1 ? ",)" : ")");
-  return os.str();
-}
-
-/// A real (bool excluded) float64 C-contiguous copy/view with the expected shape; -1 = any.
-Arr real_array(const py::handle& obj, const char* name, std::vector<py::ssize_t> shape, bool finite = true) {
-  py::array raw;
-  try {
-    raw = py::array::ensure(obj);
-  } catch (...) {
-  }
-  if (!raw) throw py::type_error(std::string(name) + ": expected an array of numbers");
-  const char kind = raw.dtype().kind();
-  if (kind != 'f' && kind != 'i' && kind != 'u')
-    throw py::type_error(std::string(name) + ": expected real numbers, got dtype " +
-                         py::str(raw.dtype()).cast<std::string>());
-  bool ok = raw.ndim() == static_cast<py::ssize_t>(shape.size());
-  for (std::size_t k = 0; ok && k < shape.size(); ++k) ok = shape[k] < 0 || raw.shape(static_cast<py::ssize_t>(k)) == shape[k];
-  if (!ok) {
-    std::ostringstream os;
-    os << name << ": expected shape (";
-    for (std::size_t k = 0; k < shape.size(); ++k) {
-      os << (k ? ", " : "");
-      if (shape[k] < 0) os << "N"; else os << shape[k];
-    }
-    os << (shape.size() == 1 ? ",)" : ")") << ", got " << shape_str(raw);
-    throw py::value_error(os.str());
-  }
-  Arr a = Arr::ensure(raw);
-  if (!a) throw py::type_error(std::string(name) + ": cannot convert to float64");
-  if (finite) {
-    const double* d = a.data();
-    for (py::ssize_t i = 0; i < a.size(); ++i)
-      if (!std::isfinite(d[i])) throw py::value_error(std::string(name) + ": must be finite, got NaN/Inf");
-  }
-  return a;
-}
-
-std::vector<int> int_vector(const py::handle& obj, const char* name, py::ssize_t n) {
-  Arr a = real_array(obj, name, {n});
-  std::vector<int> out(static_cast<std::size_t>(a.size()));
-  for (py::ssize_t i = 0; i < a.size(); ++i) {
-    const double v = a.data()[i];
-    if (v != std::floor(v) || std::abs(v) > 1e9) throw py::value_error(std::string(name) + ": expected integers");
-    out[static_cast<std::size_t>(i)] = static_cast<int>(v);
-  }
-  return out;
-}
-
-Vec3 row3(const Arr& a, py::ssize_t i) { return Vec3(a.at(i, 0), a.at(i, 1), a.at(i, 2)); }
-Mat3 mat_at(const Arr& a, py::ssize_t i) {
-  Mat3 m;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) m(r, c) = a.at(i, r, c);
-  return m;
-}
-
-double finite_arg(double v, const char* name) {
-  if (!std::isfinite(v)) throw py::value_error(std::string(name) + ": must be finite");
-  return v;
-}
-
-template <typename Fn>
-auto translate(Fn&& fn) {
-  try {
-    return fn();
-  } catch (const std::invalid_argument& e) {
-    throw py::value_error(e.what());
-  }
-}
+using namespace planning_input;
 
 std::shared_ptr<RobotCollisionModel> make_robot(const py::dict& a) {
   auto get = [&](const char* k) -> py::object {
     if (!a.contains(k)) throw py::value_error(std::string("robot model: missing entry '") + k + "'");
     return a[k];
   };
-  const Arr parent = real_array(get("body_parent"), "body_parent", {-1});
-  const py::ssize_t nb = parent.shape(0);
-  const std::vector<int> par = int_vector(get("body_parent"), "body_parent", nb);
-  const std::vector<int> joint = int_vector(get("body_joint"), "body_joint", nb);
-  const Arr rot = real_array(get("body_rotation"), "body_rotation", {nb, 3, 3});
-  const Arr pos = real_array(get("body_position"), "body_position", {nb, 3});
-  const Arr axis = real_array(get("joint_axis"), "joint_axis", {nb, 3});
-  const Arr anchor = real_array(get("joint_anchor"), "joint_anchor", {nb, 3});
-  const Arr q0 = real_array(get("joint_q0_rad"), "joint_q0_rad", {nb});
   RobotCollisionSpec s;
-  for (py::ssize_t b = 0; b < nb; ++b)
-    s.bodies.push_back(ChainBody{par[static_cast<std::size_t>(b)], mat_at(rot, b), row3(pos, b),
-                                 joint[static_cast<std::size_t>(b)], row3(axis, b), row3(anchor, b), q0.at(b)});
+  s.bodies = chain_bodies(a);
   const Arr rad = real_array(get("sphere_radius_m"), "sphere_radius_m", {-1});
   const py::ssize_t ns = rad.shape(0);
   s.sphere_body = int_vector(get("sphere_body"), "sphere_body", ns);
@@ -314,6 +229,18 @@ void bind_collision(py::module_& m) {
           return c.check_segment(a, b, step, false);
         }, py::arg("s1"), py::arg("s2"), py::arg("max_step_rad"),
         "OMPL motion callback: every state after s1 up to s2 (the start is valid by contract).")
+      .def("first_invalid_on_path", [](const StateChecker& c, const py::object& W, double max_step_rad) {
+          const Arr w = real_array(W, "waypoints", {-1, kArmJoints});
+          if (!(max_step_rad > 0.0) || !std::isfinite(max_step_rad)) throw py::value_error("max_step_rad: must be finite and > 0");
+          long long seg = -1, idx = -1;
+          {
+            py::gil_scoped_release nogil;
+            translate([&] { return c.first_invalid_on_path(w.data(), static_cast<std::size_t>(w.shape(0)), max_step_rad, &seg, &idx); });
+          }
+          return py::make_tuple(seg, idx);
+        }, py::arg("waypoints"), py::arg("max_step_rad"),
+        "Dense check of the polyline (M, 7) after its first state: (segment, index) of the first "
+        "invalid state (index i-1 of the state qa + (qb - qa) i / n), or (-1, -1) when all are valid.")
       .def("sphere_centres", [](const StateChecker& c, const py::object& q) {
           const Arr a = real_array(q, "q", {kArmJoints});
           const int ns = c.robot().num_spheres();

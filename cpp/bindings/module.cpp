@@ -13,15 +13,17 @@ void bind_estimate(py::module_& m);
 void bind_tracker(py::module_& m);
 void bind_perception(py::module_& m);
 void bind_collision(py::module_& m);
+void bind_ik(py::module_& m);
 }  // namespace grasp_bind
 
 PYBIND11_MODULE(_core, m) {
   m.doc() = "grasp_pipeline perception core (C++17, Eigen, PCL): scene filter, object "
-            "estimates, grasp pose math, tracker, the per-frame Perception entry point, and the planning state checker";
+            "estimates, grasp pose math, tracker, the per-frame Perception entry point, the planning state checker and the arm IK refinement";
   grasp_bind::bind_types(m);
   grasp_bind::bind_scene_filter(m);
   grasp_bind::bind_estimate(m);
   grasp_bind::bind_tracker(m);
   grasp_bind::bind_perception(m);
   grasp_bind::bind_collision(m);
+  grasp_bind::bind_ik(m);
 }

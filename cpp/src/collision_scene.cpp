@@ -100,3 +100,37 @@ double ClearedRegion::distance(const Vec3& p) const {
 }
 
 }  // namespace grasp_core
+
+namespace grasp_core {
+
+bool ClearedRegion::blocked(const Vec3& p, double threshold) const {
+  if (points_.empty()) return false;
+  // a failing point has d < threshold - inflation + fine (plus rounding) and d < pad
+  const double reach = std::min(pad_, threshold - inflation_ + fine_ + 1e-9);
+  if (!(reach > 0.0)) return false;
+  long long lo[3], hi[3];
+  for (int k = 0; k < 3; ++k) {
+    const double a = std::floor((p[k] - reach - lo_[k]) / cell_m_);
+    const double b = std::floor((p[k] + reach - lo_[k]) / cell_m_);
+    if (!(b >= 0.0) || a > static_cast<double>(dims_[k] - 1)) return false;  // no cell in reach
+    lo[k] = a < 0.0 ? 0 : static_cast<long long>(a);
+    hi[k] = std::min(dims_[k] - 1, static_cast<long long>(b));
+  }
+  const double reach_sq = reach * reach * (1.0 + 1e-12);
+  for (long long i = lo[0]; i <= hi[0]; ++i)
+    for (long long j = lo[1]; j <= hi[1]; ++j)
+      for (long long k = lo[2]; k <= hi[2]; ++k) {
+        const std::size_t cell = static_cast<std::size_t>((i * dims_[1] + j) * dims_[2] + k);
+        for (std::size_t n = cell_start_[cell]; n < cell_start_[cell + 1]; ++n) {
+          const Vec3& q = points_[n];
+          const double dx = p.x() - q.x(), dy = p.y() - q.y(), dz = p.z() - q.z();
+          const double sq = dx * dx + dy * dy + dz * dz;
+          if (!(sq <= reach_sq)) continue;
+          const double d = std::sqrt(sq);
+          if (d < pad_ && ((d - fine_) + inflation_) - threshold < 0.0) return true;
+        }
+      }
+  return false;
+}
+
+}  // namespace grasp_core

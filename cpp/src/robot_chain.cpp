@@ -1,5 +1,6 @@
 #include "grasp_core/robot_chain.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -26,11 +27,12 @@ RobotChain::RobotChain(std::vector<ChainBody> bodies) : bodies_(std::move(bodies
   if (!bodies_.empty()) bodies_[0].parent = -1;
 }
 
-void RobotChain::poses(const double* q, Mat3* R, Vec3* p) const {
-  if (bodies_.empty()) return;
+void RobotChain::poses(const double* q, Mat3* R, Vec3* p, int count) const {
+  if (bodies_.empty() || count <= 0) return;
+  const std::size_t n = std::min(bodies_.size(), static_cast<std::size_t>(count));
   R[0] = bodies_[0].R;
   p[0] = bodies_[0].p;
-  for (std::size_t b = 1; b < bodies_.size(); ++b) {
+  for (std::size_t b = 1; b < n; ++b) {
     const ChainBody& c = bodies_[b];
     const Mat3& Rp = R[c.parent];
     Mat3 Rb = Rp * c.R;

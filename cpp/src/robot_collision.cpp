@@ -259,9 +259,15 @@ class Evaluator {
     const bool cleared_here = allow_ && link.has_hand &&
                               !(sc_.cleared.box().distance(cb) - rad > sc_.cleared.pad_m() + kBoundSlack_m);
     if (sc_.has_env && !sc_.field.empty()) {
-      const double d = sc_.field.at(cb);
-      map_clear = !cleared_here && d < kInfinity &&
-                  d - kSqrt3 * sc_.field.voxel_m - rad - margin - sc_.field.inflation_m >= kBoundSlack_m;
+      // The bound lies wholly outside the grid: every sphere's lookup is +inf (clear).
+      // Else, inside the grid, the value at cb bounds every sphere's value (1-Lipschitz field).
+      if (sc_.field.distance_to_grid(cb) > rad + kBoundSlack_m) {
+        map_clear = !cleared_here;
+      } else {
+        const double d = sc_.field.at(cb);
+        map_clear = !cleared_here && d < kInfinity &&
+                    d - kSqrt3 * sc_.field.voxel_m - rad - margin - sc_.field.inflation_m >= kBoundSlack_m;
+      }
     } else if (sc_.has_env) {
       map_clear = !cleared_here;
     }
@@ -289,9 +295,9 @@ class Evaluator {
 
   bool sphere_map_ok(int i, const Vec3& c, double r) const {
     if (!sc_.has_env) return true;
-    double d = sc_.field.at(c);
-    if (allow_ && s_.hand_sphere[static_cast<std::size_t>(i)] && sc_.cleared.near(c)) d = sc_.cleared.distance(c);
-    return d - ((r + sc_.collision_margin_m) + sc_.field.inflation_m) >= 0.0;
+    const double thr = (r + sc_.collision_margin_m) + sc_.field.inflation_m;
+    if (allow_ && s_.hand_sphere[static_cast<std::size_t>(i)] && sc_.cleared.near(c)) return !sc_.cleared.blocked(c, thr);
+    return sc_.field.at(c) - thr >= 0.0;
   }
 
   bool self_ok() { return m_.complete_link_pairs() ? self_ok_trees() : self_ok_lists(); }
@@ -455,6 +461,41 @@ bool StateChecker::check_segment(const double* qa, const double* qb, double max_
     for (long long k = st; ok && k < n; k += st)
       if (st == stride || (k / st) % 2 == 1) ok = state_ok(k);
   if (ok && include_start) ok = state_ok(0);
+  checked_.fetch_add(done, std::memory_order_relaxed);
+  return ok;
+}
+
+bool StateChecker::first_invalid_on_path(const double* W, std::size_t m, double max_step_rad,
+                                         long long* segment, long long* index) const {
+  if (!(max_step_rad > 0.0) || !std::isfinite(max_step_rad))
+    throw std::invalid_argument("first_invalid_on_path: max_step_rad must be finite and > 0");
+  *segment = -1;
+  *index = -1;
+  const auto sc = scene();
+  Evaluator ev(*robot_, *sc, allow_target_contact());
+  double q[kArmJoints];
+  std::uint64_t done = 0;
+  bool ok = true;
+  for (std::size_t k = 0; ok && k + 1 < m; ++k) {
+    const double* qa = W + k * kArmJoints;
+    const double* qb = qa + kArmJoints;
+    double span = 0.0;
+    for (int j = 0; j < kArmJoints; ++j) span = std::max(span, std::abs(qb[j] - qa[j]));
+    const double steps = std::ceil(span / max_step_rad);
+    if (!(steps < 1e9)) throw std::invalid_argument("first_invalid_on_path: more than 1e9 states on a segment");
+    const long long n = std::max(1LL, static_cast<long long>(steps));
+    for (long long i = 1; i <= n; ++i) {
+      const double s = static_cast<double>(i) / static_cast<double>(n);
+      for (int j = 0; j < kArmJoints; ++j) q[j] = qa[j] + (qb[j] - qa[j]) * s;
+      ++done;
+      if (!ev.valid(q)) {
+        ok = false;
+        *segment = static_cast<long long>(k);
+        *index = i - 1;
+        break;
+      }
+    }
+  }
   checked_.fetch_add(done, std::memory_order_relaxed);
   return ok;
 }

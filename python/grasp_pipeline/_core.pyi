@@ -2,7 +2,7 @@
 # then tidied by hand (numpy types, aliases below). tests/python/core/test_core_stubs.py
 # fails when the module gains a public name the stubs do not declare.
 """
-grasp_pipeline perception core (C++17, Eigen, PCL): scene filter, object estimates, grasp pose math, tracker, the per-frame Perception entry point, and the planning state checker
+grasp_pipeline perception core (C++17, Eigen, PCL): scene filter, object estimates, grasp pose math, tracker, the per-frame Perception entry point, the planning state checker and the arm IK refinement
 """
 from __future__ import annotations
 from collections.abc import Sequence
@@ -973,6 +973,24 @@ class RobotCollisionModel:
     @property
     def num_spheres(self) -> int:
         ...
+class ArmIK:
+    """
+    Gauss-Newton refinement of arm joints to a flange pose on the exported chain (motion/ik.py's refinement loop in C++): flange_pose, refine_batch, refine_line.
+    """
+    def __init__(self, chain: dict[str, typing.Any], flange_body: int, q_min_rad: numpy.typing.ArrayLike, q_max_rad: numpy.typing.ArrayLike, iterations: int, tol_m: float, tol_rad: float, accept_m: float, accept_rad: float, limit_eps_rad: float) -> None:
+        ...
+    def flange_pose(self, q: numpy.typing.ArrayLike) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        Flange pose (4, 4) for arm state q (7,).
+        """
+    def refine_batch(self, T: numpy.typing.ArrayLike, Q: numpy.typing.ArrayLike) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.bool_]]:
+        """
+        Refine every seed row of Q (N, 7) towards the flange pose T (4, 4): (refined (N, 7), kept (N,) bool: inside the limits and verified; kept rows are clipped to the limits).
+        """
+    def refine_line(self, Ts: numpy.typing.ArrayLike, q0: numpy.typing.ArrayLike) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        Refine the poses Ts (n, 4, 4) in order, each seeded by the previous solution (the first by q0): the solved prefix (k, 7), k < n when pose k could not be refined and verified.
+        """
 class CollisionScene:
     """
     One perceived planning scene (immutable): distance field of the occupancy map, object boxes, floor, margins, and the optional target-cleared region.
@@ -1008,6 +1026,10 @@ class StateChecker:
     def check_segment(self, qa: numpy.typing.ArrayLike, qb: numpy.typing.ArrayLike, max_step_rad: float, include_start: bool = False) -> bool:
         """
         True if every state of the straight joint line (step <= max_step_rad per joint) is valid.
+        """
+    def first_invalid_on_path(self, waypoints: numpy.typing.ArrayLike, max_step_rad: float) -> tuple[int, int]:
+        """
+        Dense check of the polyline (M, 7) after its first state: (segment, index) of the first invalid state (index i-1 of the state qa + (qb - qa) i / n), or (-1, -1) when all are valid.
         """
     def set_scene(self, scene: CollisionScene) -> None:
         ...

@@ -189,6 +189,7 @@ class MotionRecord(TypedDict, total=False):
     kind: str
     ok: bool
     planning_ms: float
+    planning_cpu_ms: float
     method: str
     toppra_ms: float
     duration_s: float

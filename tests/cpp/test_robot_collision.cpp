@@ -162,6 +162,31 @@ TEST(ClearedRegion, NearestDistanceEqualsBruteForce) {
   }
 }
 
+TEST(ClearedRegion, BlockedEqualsTheNearestDistanceTest) {
+  std::mt19937 gen(9);
+  std::uniform_real_distribution<double> u(-0.3, 0.3);
+  std::uniform_real_distribution<double> t(-0.02, 0.12);
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 2000; ++i) pts.emplace_back(u(gen), u(gen), 0.1 * u(gen));
+  const double pad = 0.09, fine = 0.002, infl = 0.017;
+  const ClearedRegion region(ObstacleBox(Vec3::Zero(), Mat3::Identity(), Vec3::Constant(0.1)), pad, pts, fine, infl);
+  EXPECT_FALSE(ClearedRegion().blocked(Vec3::Zero(), 1.0));
+  int blocked = 0;
+  for (int k = 0; k < 20000; ++k) {
+    const Vec3 p(1.2 * u(gen), 1.2 * u(gen), 0.5 * u(gen));
+    double thr = t(gen);
+    if (k % 4 == 0) {  // thresholds at the decision boundary of the nearest point
+      const double d = region.distance(p);
+      if (d < kInfinity) thr = d + (k % 8 == 0 ? 0.0 : 1e-17);
+    }
+    const bool want = !(region.distance(p) - thr >= 0.0);
+    ASSERT_EQ(region.blocked(p, thr), want) << k;
+    blocked += want;
+  }
+  EXPECT_GT(blocked, 1000);
+  EXPECT_LT(blocked, 19000);
+}
+
 TEST(StateChecker, PartialPairListUsesTheListPath) {
   auto spec = arm_spec();
   // a second tool sphere, paired with nothing: the pair list no longer covers whole link pairs
@@ -174,4 +199,70 @@ TEST(StateChecker, PartialPairListUsesTheListPath) {
   EXPECT_TRUE(c.check(q_of(0, 0).data()));
   EXPECT_FALSE(c.check(q_of(0, 2.99).data()));  // the paired tool sphere still hits the base
   EXPECT_TRUE(StateChecker(std::make_shared<RobotCollisionModel>(arm_spec()), free_scene()).robot().complete_link_pairs());
+}
+
+TEST(StateChecker, FirstInvalidOnPathIsTheFirstInvalidDenseState) {
+  auto scene = free_scene();
+  scene->boxes.emplace_back(Vec3(0.0, 0.95, kBaseZ_m), Mat3::Identity(), Vec3(0.1, 0.1, 0.1));
+  StateChecker c = checker(scene);
+  const double step = 0.01;
+  // waypoints sweeping joint 0 from 0 to 1 rad and on to 2.5 rad: the tool meets the box near pi/2
+  const double W[3][kArmJoints] = {{0, 0, 0, 0, 0, 0, 0}, {1.0, 0, 0, 0, 0, 0, 0}, {2.5, 0, 0, 0, 0, 0, 0}};
+  long long seg = -2, idx = -2;
+  EXPECT_FALSE(c.first_invalid_on_path(&W[0][0], 3, step, &seg, &idx));
+  // the same answer by checking the dense states one by one in order
+  long long want_seg = -1, want_idx = -1;
+  for (int k = 0; k < 2 && want_seg < 0; ++k) {
+    const long long n = static_cast<long long>(std::ceil((W[k + 1][0] - W[k][0]) / step));
+    for (long long i = 1; i <= n; ++i) {
+      const double s = static_cast<double>(i) / static_cast<double>(n);
+      const auto q = q_of(W[k][0] + (W[k + 1][0] - W[k][0]) * s, 0);
+      if (!c.check(q.data())) { want_seg = k; want_idx = i - 1; break; }
+    }
+  }
+  EXPECT_EQ(seg, 1);
+  EXPECT_EQ(seg, want_seg);
+  EXPECT_EQ(idx, want_idx);
+  EXPECT_TRUE(c.first_invalid_on_path(&W[0][0], 2, step, &seg, &idx));
+  EXPECT_EQ(seg, -1);
+  EXPECT_TRUE(c.first_invalid_on_path(&W[0][0], 1, step, &seg, &idx));  // no segment
+  EXPECT_THROW(c.first_invalid_on_path(&W[0][0], 3, 0.0, &seg, &idx), std::invalid_argument);
+}
+
+TEST(StateChecker, EqualsSphereBySphereReferenceInAndAroundTheGrid) {
+  // A small map (40 voxels of 1 cm around one occupied voxel near the arm's reach) and a box:
+  // most states put the links' bounding spheres outside, across or inside the grid. The
+  // checker's verdict must equal testing every sphere and pair (the reference below).
+  auto scene = free_scene();
+  scene->has_env = true;
+  scene->field = one_voxel_field(Vec3(0.6, 0.3, kBaseZ_m), 0.01);
+  scene->boxes.emplace_back(Vec3(-0.5, 0.5, kBaseZ_m), Mat3::Identity(), Vec3::Constant(0.1));
+  const auto model = std::make_shared<RobotCollisionModel>(arm_spec());
+  StateChecker c(model, scene);
+  const RobotCollisionSpec& s = model->spec();
+  const CollisionScene& sc = *scene;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  std::vector<Vec3> C(static_cast<std::size_t>(model->num_spheres()));
+  int valid = 0, n = 0;
+  for (int k = 0; k < 20000; ++k, ++n) {
+    const auto q = q_of(u(rng), u(rng));
+    c.sphere_centres(q.data(), C.data());
+    bool ok = true;
+    for (std::size_t i = 0; i < C.size(); ++i) {
+      if (!s.env_sphere[i]) continue;
+      const double r = s.sphere_radius[i];
+      ok = ok && (C[i].z() - r) - sc.floor_z_m >= 0.0;
+      ok = ok && sc.field.at(C[i]) - ((r + sc.collision_margin_m) + sc.field.inflation_m) >= 0.0;
+      for (const ObstacleBox& b : sc.boxes) ok = ok && b.distance(C[i]) - (r + sc.collision_margin_m) >= 0.0;
+    }
+    for (const auto& pr : s.pairs)
+      ok = ok && (C[static_cast<std::size_t>(pr.first)] - C[static_cast<std::size_t>(pr.second)]).norm() -
+                         (s.sphere_radius[static_cast<std::size_t>(pr.first)] + s.sphere_radius[static_cast<std::size_t>(pr.second)]) >=
+                     s.self_margin_m;
+    ASSERT_EQ(c.check(q.data()), ok) << "q = " << q[0] << ", " << q[1];
+    valid += ok;
+  }
+  EXPECT_GT(valid, n / 5);
+  EXPECT_LT(valid, n - n / 20);
 }

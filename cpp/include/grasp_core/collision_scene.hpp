@@ -41,6 +41,19 @@ struct DistanceField {
                     k = static_cast<long long>(fz);
     return static_cast<double>(values[static_cast<std::size_t>((i * ny + j) * nz + k)]);
   }
+  /// Euclidean distance from p to the grid's box [origin, origin + n * voxel] (0 inside);
+  /// +inf for an empty map. A point farther than 0 from the box is outside every voxel.
+  double distance_to_grid(const Vec3& p) const {
+    if (values.empty()) return kInfinity;
+    const double hi[3] = {origin.x() + static_cast<double>(nx) * voxel_m, origin.y() + static_cast<double>(ny) * voxel_m,
+                          origin.z() + static_cast<double>(nz) * voxel_m};
+    double s = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const double e = p[k] < origin[k] ? origin[k] - p[k] : (p[k] > hi[k] ? p[k] - hi[k] : 0.0);
+      s += e * e;
+    }
+    return std::sqrt(s);
+  }
 };
 
 struct ObstacleBox {
@@ -80,6 +93,11 @@ class ClearedRegion {
   bool near(const Vec3& p) const { return box_.distance(p) <= pad_; }
   /// (nearest kept point distance - fine) + inflation, +inf if no point within pad.
   double distance(const Vec3& p) const;
+  /// distance(p) - threshold < 0, without finding the nearest point: true when some kept
+  /// point at d < pad has (d - fine) + inflation - threshold < 0. The same answer, since that
+  /// expression never decreases with d (so the nearest point fails whenever any point does);
+  /// only the cells within reach of such a point are visited, and the first one ends it.
+  bool blocked(const Vec3& p, double threshold) const;
 
  private:
   double nearest_sq(const Vec3& p) const;

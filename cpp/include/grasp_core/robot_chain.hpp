@@ -39,7 +39,9 @@ class RobotChain {
   const ChainBody& body(int b) const { return bodies_[static_cast<std::size_t>(b)]; }
 
   /// World poses of every body for the arm state q (7 values); R and p have num_bodies() slots.
-  void poses(const double* q, Mat3* R, Vec3* p) const;
+  void poses(const double* q, Mat3* R, Vec3* p) const { poses(q, R, p, num_bodies()); }
+  /// Poses of the first `count` bodies only (clamped to num_bodies()).
+  void poses(const double* q, Mat3* R, Vec3* p, int count) const;
 
  private:
   std::vector<ChainBody> bodies_;

@@ -17,7 +17,7 @@ import numpy as np
 from .. import _core
 from .config import MotionConfig
 from .exceptions import MotionError
-from .kinematics import _axis_angle_batch
+from .kinematics import ChainKinematics, _axis_angle_batch
 from .occupancy import OccupancyMap, OrientedBox
 from .robot_spheres import RobotSpheres
 
@@ -28,7 +28,12 @@ class CollisionExportError(MotionError):
 
 def _body_rows(robot: RobotSpheres) -> dict[str, np.ndarray]:
     """Chain arrays (B = nbody): parent, fixed R/p (fixed joints folded in), arm hinge."""
-    kin, q_fixed = robot.kin, robot.fixed_qpos
+    return chain_rows(robot.kin, robot.fixed_qpos)
+
+
+def chain_rows(kin: ChainKinematics, q_fixed: np.ndarray) -> dict[str, np.ndarray]:
+    """Chain arrays of ``kin`` with the non-arm joints at ``q_fixed`` (full qpos) folded in:
+    the ``chain`` argument of ``_core.RobotCollisionModel`` and ``_core.ArmIK``."""
     col = {int(a): i for i, a in enumerate(kin.arm_qpos_idx)}
     nb = kin.nbody
     R, p = kin.body_R.copy(), kin.body_pos.copy()

@@ -7,11 +7,11 @@ two are not inverses of each other). For ``ik_q7_samples`` values of q7 across i
 plus the current q7, ``ik_full`` gives up to four solutions each. Every candidate is then
 
 1. kept only if within our joint limits (``PANDA_Q_MIN/MAX``),
-2. refined by Gauss-Newton on *our* model's forward kinematics (``mj_kinematics`` and
-   ``mj_jacBody`` on the robot-only MJCF), so a difference between frankik's DH figures and
-   our model cannot leak into the result,
-3. verified with ``mujoco.mj_kinematics`` on the robot model: accepted only if the flange
-   reaches the target within ``ik_accept_position_m`` / ``ik_accept_orientation_rad``.
+2. refined by Gauss-Newton on *our* model's forward kinematics (the robot-only MJCF's chain,
+   exported once to the C++ core: ``_core.ArmIK``, equal to ``mj_kinematics`` to ~1e-15), so a
+   difference between frankik's DH figures and our model cannot leak into the result,
+3. verified on the same FK: accepted only if the flange reaches the target within
+   ``ik_accept_position_m`` / ``ik_accept_orientation_rad``.
 
 The solutions are de-duplicated and sorted by joint-space distance to the current joints;
 the nearest is chosen. When frankik yields nothing usable, a damped-least-squares search on
@@ -28,8 +28,10 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from .. import _core
 from ..robot import description as rm
 from .config import MotionConfig
+from .core_checker import chain_rows
 from .exceptions import UnreachablePoseError
 from .kinematics import ChainKinematics
 from .poses import pose_error, pose_inverse, rotation_log, validate_joints, validate_pose
@@ -77,6 +79,9 @@ class PandaIK:
         self._arm_anchor = [np.array(self.model.jnt_pos[j]) for j in jid]
         self.flange_T_tcp = rm.flange_T_tcp(self.model)
         self.tcp_T_flange = pose_inverse(self.flange_T_tcp)
+        self.core = _core.ArmIK(chain_rows(self.kin, self.model.qpos0), self.flange_id, self.q_min, self.q_max,
+                                config.ik_refine_iterations, config.ik_tolerance_m, config.ik_tolerance_rad,
+                                config.ik_accept_position_m, config.ik_accept_orientation_rad, _LIMIT_EPS_RAD)
 
     # ------------------------------------------------------------------ forward kinematics
     def fk_flange(self, q: np.ndarray) -> np.ndarray:
@@ -192,33 +197,23 @@ class PandaIK:
         return e
 
     def _refine_and_verify(self, T: np.ndarray, Q: np.ndarray) -> np.ndarray:
-        cfg = self.config
-        Q = Q.copy()
-        for _ in range(cfg.ik_refine_iterations):
-            Rf, pf, J = self._flange_and_jacobian(Q)
-            e = self._errors(T, Rf, pf)
-            done = (np.linalg.norm(e[:, :3], axis=1) <= cfg.ik_tolerance_m) & \
-                   (np.linalg.norm(e[:, 3:], axis=1) <= cfg.ik_tolerance_rad)
-            if np.all(done):
-                break
-            JT = np.transpose(J, (0, 2, 1))
-            step = JT @ np.linalg.solve(J @ JT + 1e-12 * np.eye(6)[None], e[:, :, None])
-            Q[~done] += step[~done, :, 0]
-        inside = np.all((Q >= self.q_min - _LIMIT_EPS_RAD) & (Q <= self.q_max + _LIMIT_EPS_RAD), axis=1)
-        Q = np.clip(Q[inside], self.q_min, self.q_max)
-        keep = []
-        for q in Q:  # verification on MuJoCo's own FK
-            pe, re = pose_error(T, self.fk_flange(q))
-            if pe <= cfg.ik_accept_position_m and re <= cfg.ik_accept_orientation_rad:
-                keep.append(q)
-        if not keep:
+        """Gauss-Newton refinement of every seed row of Q (C++ ``ArmIK.refine_batch``: up to
+        ``ik_refine_iterations`` steps, kept when inside the limits and verified), then the
+        kept solutions without duplicates (max joint difference ≤ ``ik_duplicate_tol_rad``)."""
+        Qr, ok = self.core.refine_batch(T, np.asarray(Q, dtype=float))
+        keep = Qr[ok]
+        if not len(keep):
             return np.zeros((0, 7))
-        keep = np.asarray(keep)
         uniq = [keep[0]]
         for q in keep[1:]:
-            if np.min(np.max(np.abs(np.asarray(uniq) - q), axis=1)) > cfg.ik_duplicate_tol_rad:
+            if np.min(np.max(np.abs(np.asarray(uniq) - q), axis=1)) > self.config.ik_duplicate_tol_rad:
                 uniq.append(q)
         return np.asarray(uniq)
+
+    def refine_line(self, Ts: np.ndarray, q_start: np.ndarray) -> np.ndarray:
+        """Refine the flange poses Ts (n, 4, 4) in order, each seeded by the previous solution:
+        the solved prefix (k, 7); k < n when pose k needs another method (see :meth:`solve_flange`)."""
+        return self.core.refine_line(Ts, q_start)
 
     def _dls_best(self, T: np.ndarray, seeds: np.ndarray) -> tuple[np.ndarray, float, float]:
         """Damped least squares with joint-limit clamping from each seed; the best reach.

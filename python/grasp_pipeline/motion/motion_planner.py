@@ -138,7 +138,7 @@ class MotionPlanner:
 
     def plan_path_to_pose(self, q_start: np.ndarray, T_world: np.ndarray, frame: str = "tcp") -> JointPath:
         """IK (all solutions, nearest first), then plan to the nearest collision-free one."""
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.thread_time()
         validate_pose(T_world, f"{frame} target pose")
         res = self.solve_ik(T_world, q_start, frame)
         ok = self.validator.check_batch(res.solutions)
@@ -151,7 +151,7 @@ class MotionPlanner:
             try:
                 p = self.joint_planner.plan(q_start, q_goal)
                 return JointPath(p.waypoints, (time.perf_counter() - t0) * 1e3, p.method, p.attempts,
-                                 p.checked_states)
+                                 p.checked_states, (time.thread_time() - c0) * 1e3)
             except PlanningFailedError as exc:
                 errors.append(str(exc))
         raise PlanningFailedError("no path to any of the nearest collision-free IK solutions: "

@@ -12,7 +12,8 @@ class JointPath:
     """A collision-checked geometric path (no timing).
 
     ``waypoints`` (M, 7) rad, start first. ``planning_ms`` is the wall time of the
-    query; ``method`` is ``"direct"`` (straight joint-space line), ``"cartesian"`` or
+    query, ``cpu_ms`` the CPU time of the planning thread during it (robust to load);
+    ``method`` is ``"direct"`` (straight joint-space line), ``"cartesian"`` or
     the OMPL planner's name; ``attempts`` counts planner runs (0 for a direct line).
     """
 
@@ -21,6 +22,7 @@ class JointPath:
     method: str = "direct"
     attempts: int = 0
     checked_states: int = 0
+    cpu_ms: float = 0.0
 
     @property
     def start(self) -> np.ndarray:

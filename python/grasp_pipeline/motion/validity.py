@@ -184,6 +184,15 @@ class StateValidator:
                 return k
         return None
 
+    def first_invalid_state(self, waypoints: np.ndarray, max_step_rad: float) -> tuple[int, np.ndarray] | None:
+        """(segment, state) of the first invalid state of the densified polyline after its first
+        waypoint (the states of :meth:`segment_states`, in path order; one C++ call), or None."""
+        wp = np.asarray(waypoints, dtype=float)
+        seg, i = self.core().first_invalid_on_path(wp, max_step_rad)
+        if seg < 0:
+            return None
+        return int(seg), self.segment_states(wp[seg], wp[seg + 1], max_step_rad)[i]
+
     def explain(self, q: np.ndarray) -> str:
         """Human-readable reason why ``q`` is invalid ("valid" if it is not)."""
         q = np.asarray(q, dtype=float)

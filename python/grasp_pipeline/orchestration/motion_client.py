@@ -77,7 +77,7 @@ class MotionClient:
         plan = {"kind": kind, "method": traj.path.method if traj.path else "",
                 "planning_ms": traj.path.planning_ms if traj.path else 0.0,
                 "timing_ms": traj.timing_ms, "duration_s": traj.duration_s}
-        self.plans.append(plan)
+        self.plans.append({**plan, "planning_cpu_ms": traj.path.cpu_ms if traj.path else 0.0})
         if self.events.wants(PlanEvent):
             self.events.publish(PlanEvent(float(self.world.time_s), **plan, trajectory=traj))
         report: ExecutionReport = yield from self.executor.execute_steps(

@@ -128,6 +128,9 @@ def test_bench_planning(gl, work):
     assert res.returncode == 0, res.stderr[-2000:]
     out = strict_json(work / "pl.json")
     assert out["plans"] >= 5 and out["robot_contacts_during_motion"] == 0
+    # planning-thread CPU time next to the wall time (robust to a loaded machine)
+    assert 0.0 < out["cpu_median_ms"] <= out["cpu_p90_ms"]
+    assert all(v["cpu_median_ms"] is not None for v in out["by_kind"].values())
 
 
 @pytest.mark.parametrize("gl", GL_SETTINGS, ids=gl_id)

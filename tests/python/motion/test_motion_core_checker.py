@@ -164,3 +164,31 @@ def test_model_and_scene_bad_input(planner):
         _core.CollisionScene(float("inf"), 0.0)
     model = core_checker.robot_model(planner.robot, v.q_min, v.q_max)
     assert model.num_spheres == len(planner.robot.spheres.radius)
+
+
+def test_first_invalid_state_is_the_first_invalid_dense_state(planner, table_cloud, rng):
+    """One C++ call over a whole polyline = the first False of the reference validator over
+    the concatenated dense segments (in path order), on paths through the table scene."""
+    v = _scene(planner, table_cloud, rng)
+    step = planner.config.final_check_step_rad
+    found = 0
+    for _ in range(40):
+        wp = rng.uniform(v.q_min, v.q_max, size=(4, 7))
+        wp[1:] = wp[0] + 0.25 * (wp[1:] - wp[0])
+        dense = [v.segment_states(a, b, step) for a, b in zip(wp[:-1], wp[1:])]
+        ok = v._python_check_batch(np.vstack(dense))
+        got = v.first_invalid_state(wp, step)
+        if np.all(ok):
+            assert got is None
+            continue
+        found += 1
+        first = int(np.argmin(ok))
+        seg = int(np.searchsorted(np.cumsum([len(d) for d in dense]), first, side="right"))
+        assert got is not None and got[0] == seg
+        assert np.array_equal(got[1], np.vstack(dense)[first])
+    assert found >= 5
+    with pytest.raises(ValueError, match=r"waypoints: expected shape \(N, 7\)"):
+        v.core().first_invalid_on_path(np.zeros((3, 6)), step)
+    with pytest.raises(ValueError, match="max_step_rad"):
+        v.core().first_invalid_on_path(np.zeros((3, 7)), 0.0)
+    assert v.core().first_invalid_on_path(np.zeros((1, 7)), step) == (-1, -1)

@@ -78,3 +78,74 @@ def test_nan_current_joints_refused(planner):
     q[3] = np.nan
     with pytest.raises(InvalidPoseError, match="NaN"):
         planner.solve_ik(planner.ik.fk_tcp(rm.READY_Q), q)
+
+
+def _numpy_refine_reference(ik, T, Q):
+    """The numpy refinement the C++ ``ArmIK.refine_batch`` replaced (kept here as the
+    reference): Gauss-Newton on MuJoCo's FK + Jacobian, limits, verification by MuJoCo FK."""
+    cfg = ik.config
+    Q = Q.copy()
+    for _ in range(cfg.ik_refine_iterations):
+        Rf, pf, J = ik._flange_and_jacobian(Q)
+        e = ik._errors(T, Rf, pf)
+        done = (np.linalg.norm(e[:, :3], axis=1) <= cfg.ik_tolerance_m) & \
+               (np.linalg.norm(e[:, 3:], axis=1) <= cfg.ik_tolerance_rad)
+        if np.all(done):
+            break
+        JT = np.transpose(J, (0, 2, 1))
+        step = JT @ np.linalg.solve(J @ JT + 1e-12 * np.eye(6)[None], e[:, :, None])
+        Q[~done] += step[~done, :, 0]
+    inside = np.all((Q >= ik.q_min - 1e-9) & (Q <= ik.q_max + 1e-9), axis=1)
+    Qc = np.clip(Q, ik.q_min, ik.q_max)
+    ok = inside & np.array([all(e <= a for e, a in zip(pose_error(T, ik.fk_flange(q)),
+                                                          (cfg.ik_accept_position_m, cfg.ik_accept_orientation_rad)))
+                            for q in Qc])
+    return Qc, ok
+
+
+def test_core_refinement_equals_numpy_reference(planner, rng):
+    """C++ refinement vs the numpy reference: the same seeds kept, the same joints (1e-9 rad),
+    on the analytic candidates of random targets and on perturbed / far seeds."""
+    ik = planner.ik
+    compared, kept = 0, 0
+    for q in _random_q(rng, 30):
+        T = ik.fk_flange(q)
+        seeds = np.vstack([ik._analytic_candidates(T, q)[:40], q + rng.normal(0.0, 0.05, (10, 7)),
+                           _random_q(rng, 5)])
+        Qr, ok = ik.core.refine_batch(T, seeds)
+        Qn, ok_n = _numpy_refine_reference(ik, T, seeds)
+        assert np.array_equal(ok, ok_n)
+        assert np.abs(Qr[ok] - Qn[ok]).max(initial=0.0) <= 1e-9
+        compared += len(seeds)
+        kept += int(ok.sum())
+    assert compared >= 1000 and 0.3 * compared < kept < compared
+
+
+def test_core_ik_flange_pose_and_bad_input(planner, rng):
+    ik = planner.ik
+    for q in _random_q(rng, 5):
+        assert np.abs(ik.core.flange_pose(q) - ik.fk_flange(q)).max() <= 1e-12
+    with pytest.raises(ValueError, match=r"T: expected shape \(4, 4\)"):
+        ik.core.refine_batch(np.eye(3), np.zeros((1, 7)))
+    with pytest.raises(ValueError, match="finite"):
+        ik.core.refine_line(np.full((2, 4, 4), np.nan), np.zeros(7))
+    with pytest.raises(ValueError, match=r"q0: expected shape \(7,\)"):
+        ik.core.refine_line(np.tile(np.eye(4), (2, 1, 1)), np.zeros(6))
+    assert ik.core.refine_line(np.zeros((0, 4, 4)), rm.READY_Q).shape == (0, 7)
+
+
+def test_refine_line_follows_a_straight_line(planner):
+    """Each pose seeded by the previous solution: small joint steps, every pose reached."""
+    ik = planner.ik
+    T0 = ik.fk_flange(np.asarray(rm.READY_Q))
+    Ts = np.tile(T0, (20, 1, 1))
+    Ts[:, 2, 3] -= np.linspace(0.005, 0.1, 20)
+    Q = ik.refine_line(Ts, np.asarray(rm.READY_Q))
+    assert Q.shape == (20, 7)
+    assert np.abs(np.diff(np.vstack([rm.READY_Q, Q]), axis=0)).max() < 0.05
+    for T, q in zip(Ts, Q):
+        pe, re = pose_error(T, ik.fk_flange(q))
+        assert pe <= 1e-6 and re <= 1e-6
+    far = Ts.copy()
+    far[10:, 0, 3] += 3.0  # unreachable from pose 10 on: the solved prefix stops there
+    assert ik.refine_line(far, np.asarray(rm.READY_Q)).shape == (10, 7)
