@@ -141,6 +141,9 @@ def _add_record(sub: argparse._SubParsersAction) -> None:
     r.add_argument("--no-progress", action="store_true", help="no progress bar")
     r.add_argument("--round-timeout", type=positive_float, default=3600.0, metavar="S",
                    help="wall-clock limit of one round in seconds (default 3600)")
+    r.add_argument("--rerun", type=Path, default=None, metavar="DIR",
+                   help="also a Rerun recording of every round: DIR/round_<i>_scene_<seed>.rrd "
+                        "(open with 'rerun FILE.rrd'). Needs pip install 'grasp-pipeline[rerun]'")
     _add_backend_options(r)
     _add_config_options(r, "record, scene_filter, obb, camera, sim, clutter, motion, scan, grasp, declutter",
                         "record.scene_azimuth_deg=90")

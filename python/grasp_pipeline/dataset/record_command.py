@@ -89,6 +89,17 @@ def check_inputs(protocol: str, objects: str, episodes: int, workers: int, out: 
     return settings
 
 
+def _check_rerun_dir(rerun_dir) -> Optional[Path]:
+    """The Rerun recordings folder, checked (SDK present, folder writable) before any round."""
+    if rerun_dir is None:
+        return None
+    from ..report.rerun_recorder import import_rerun
+    from ..report.serialize import check_writable_dir
+
+    import_rerun()
+    return check_writable_dir(Path(rerun_dir), "Rerun recordings folder (--rerun)")
+
+
 def _kept(rows: list[dict]) -> list[tuple[dict, dict]]:
     """(round record, episode outcome) of the saved episodes, in round and attempt order."""
     rows = sorted(rows, key=lambda r: r["index"])
@@ -111,10 +122,12 @@ def _tasks(first: int, n: int, a: dict, work: Path) -> list[tuple]:
     out = []
     for i in range(first, first + n):
         seed = scene_seed(a["seed"], i)
+        name = f"round_{i:05d}_scene_{seed}"
+        rrd = None if a["rerun_dir"] is None else str(Path(a["rerun_dir"]) / f"{name}.rrd")
         out.append((i, {"index": i, "bench_seed": a["seed"], "round": i, "seed": seed,
                         "protocol": a["protocol"], "objects": str(a["objects"]),
-                        "keep_failed": a["keep_failed"], "depth": a["depth"],
-                        "overrides": a["overrides"], "work_dir": str(work / f"round_{i:05d}_scene_{seed}")}))
+                        "keep_failed": a["keep_failed"], "depth": a["depth"], "recording": rrd,
+                        "overrides": a["overrides"], "work_dir": str(work / name)}))
     return out
 
 
@@ -182,8 +195,10 @@ def record_dataset(protocol: str = "sparse", objects: str = "builtin", episodes:
                    keep_failed: bool = False, depth: bool = False, fps: Optional[int] = None,
                    image_size: Optional[int] = None, backend: str = "local",
                    address: Optional[str] = None, overrides: tuple = (None, ()),
-                   progress: bool = True, round_timeout_s: float = 3600.0) -> dict:
-    """Record ``episodes`` episodes into a new LeRobot dataset at ``out``; returns the summary."""
+                   progress: bool = True, round_timeout_s: float = 3600.0,
+                   rerun_dir: str | Path | None = None) -> dict:
+    """Record ``episodes`` episodes into a new LeRobot dataset at ``out``; returns the summary.
+    ``rerun_dir``: also one Rerun recording per round there (``round_<i>_scene_<seed>.rrd``)."""
     from ..app.run_command import sigterm_as_interrupt
     from ..report.serialize import write_json
 
@@ -191,10 +206,11 @@ def record_dataset(protocol: str = "sparse", objects: str = "builtin", episodes:
     out = Path(out)
     overrides = _overrides(overrides, fps, image_size)
     settings = check_inputs(protocol, objects, episodes, workers, out, overrides)
+    rerun_dir = _check_rerun_dir(rerun_dir)
     a = {"protocol": protocol, "objects": objects, "episodes": int(episodes), "seed": int(seed),
          "workers": int(workers), "keep_failed": bool(keep_failed), "depth": bool(depth),
          "overrides": overrides, "backend": backend, "address": address, "out": out,
-         "round_timeout_s": round_timeout_s}
+         "round_timeout_s": round_timeout_s, "rerun_dir": rerun_dir}
     if out.exists():
         out.rmdir()  # an empty folder: LeRobot creates it itself
     out.parent.mkdir(parents=True, exist_ok=True)
@@ -221,7 +237,7 @@ def record_main(args) -> int:
         workers=args.workers, out=args.out, keep_failed=args.keep_failed, depth=args.depth,
         fps=args.fps, image_size=args.image_size, backend=args.backend, address=args.address,
         overrides=(args.config, args.sets), progress=not args.no_progress,
-        round_timeout_s=args.round_timeout)
+        round_timeout_s=args.round_timeout, rerun_dir=args.rerun)
     print(dumps(summary, sort_keys=True))
     if summary["status"] != "complete":
         log.error("dataset %s: %s (%d of %d episodes written)", summary["out"], summary["status"],

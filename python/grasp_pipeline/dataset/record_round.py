@@ -57,7 +57,8 @@ class _RoundRecording:
 
 def run_record_round(task: dict) -> dict:
     """Run and record one round in this process (``task``: index, bench_seed, round, seed,
-    protocol, objects, work_dir, keep_failed, depth, overrides); never raises."""
+    protocol, objects, work_dir, keep_failed, depth, recording (a Rerun file or None),
+    overrides); never raises."""
     from ..app.run import run_pipeline
     from ..bench.clutter_round import round_scene
     from .record_settings import record_settings
@@ -70,7 +71,7 @@ def run_record_round(task: dict) -> dict:
         rec = _RoundRecording(task, settings, spec)
         Path(task["work_dir"]).mkdir(parents=True, exist_ok=True)
         report = run_pipeline(scene=spec, seed=task["seed"], out_dir=task["work_dir"], settings=settings,
-                              video=False, declutter=True, prepare=rec)
+                              video=False, declutter=True, prepare=rec, rerun=task.get("recording"))
         error = report.error
     except Exception as exc:  # any failure of the round is a result, not a crash
         error = f"{type(exc).__name__}: {exc}"

@@ -28,7 +28,8 @@ ARGS = ["--log-level", "WARNING", "record", "--protocol", "sparse", "--episodes"
 
 def _record(d: Path, backend: str) -> subprocess.CompletedProcess:
     env = {"PATH": f"{EXE.parent}:/usr/bin:/bin", "HOME": str(d), "LANG": "C.UTF-8"}
-    return subprocess.run([str(EXE), *ARGS, "--backend", backend, "--out", "ds"], cwd=d, env=env,
+    rerun = ["--rerun", "recs"] if backend == "local" else []  # recordings change no decision
+    return subprocess.run([str(EXE), *ARGS, *rerun, "--backend", backend, "--out", "ds"], cwd=d, env=env,
                           capture_output=True, text=True, timeout=1800, stdin=subprocess.DEVNULL)
 
 
@@ -88,6 +89,7 @@ def test_dataset_loads_with_lerobot_with_its_features_and_episodes(datasets):
 def test_tasks_and_outcomes_name_each_target(datasets):
     from grasp_pipeline.dataset.record_settings import record_settings
     from grasp_pipeline.bench.clutter_round import round_scene
+    from grasp_pipeline.language.colours import colour_name
 
     root, summary = datasets["local"]
     ds, outcomes = _load(root), _outcomes(root)
@@ -96,7 +98,8 @@ def test_tasks_and_outcomes_name_each_target(datasets):
     settings = record_settings((None, ("sim.object_count=[1,1]",)))
     for k, o in enumerate(outcomes):
         (obj,) = round_scene("sparse", scene_seed(SEED, o["round"]), "builtin", settings).objects
-        assert o["task"] == f"pick up the {obj.category or obj.kind} and put it in the tray"
+        colour = colour_name(tuple(obj.rgba)[:3])  # sparse primitives: colour from their RGBA
+        assert o["task"] == f"pick up the {colour} {obj.category or obj.kind} and put it in the tray"
         assert o["object"] == obj.name
         ep = ds.meta.episodes[k]
         assert list(ep["tasks"]) == [o["task"]]
@@ -135,6 +138,18 @@ def test_ray_backend_writes_the_same_dataset(datasets):
     for key in ("observation.state", "observation.ee_pose", "action", "action.ee_delta",
                 "episode_index", "frame_index", "task_index"):
         assert np.array_equal(_columns(a, key), _columns(b, key)), key
+
+
+def test_rerun_recording_of_every_round_reads_back(datasets):
+    """``--rerun DIR``: one readable recording per round, named after the round's scene seed."""
+    from grasp_pipeline.report.rerun_summary import summarize_recording
+
+    recs = datasets["local"][0].parent / "recs"
+    names = sorted(p.name for p in recs.glob("*.rrd"))
+    assert names == sorted(f"round_{i:05d}_scene_{scene_seed(SEED, i)}.rrd" for i in range(EPISODES))
+    for p in recs.glob("*.rrd"):
+        summary = summarize_recording(p)
+        assert summary["/world/objects"].logs >= 1 and summary["/timeline/picks"].logs >= 1
 
 
 def test_record_without_lerobot_refuses_before_simulating(tmp_path):
