@@ -179,6 +179,8 @@ inline py::array_t<double> to_numpy(const std::vector<double>& v) {
 /// (issue 12) An optional colour image for `rows` points: None -> an empty handle; else a
 /// C-contiguous uint8 array with rows x 3 values ((H, W, 3) or (N, 3)), read in place when it
 /// already is one (a copy otherwise). TypeError / ValueError name the argument.
+/// The colour rows of `obj` (C-contiguous uint8), or an empty array for None (callers test
+/// `obj.is_none()`: an empty py::array is a valid object whose data() is not null).
 inline py::array rgb_view(const py::object& obj, std::size_t rows) {
   if (obj.is_none()) return py::array();
   if (!py::isinstance<py::array>(obj))

@@ -122,7 +122,8 @@ void bind_perception(py::module_& m) {
                throw py::value_error("image_width: expected 0 (unorganized) or the width of an organized "
                                      "frame whose row count is a multiple of it");
              const py::array colour = rgb_view(rgb, v.rows);
-             const auto* c = colour ? static_cast<const std::uint8_t*>(colour.data()) : nullptr;
+             // (a default py::array is an empty array, not a null handle: test for None)
+             const auto* c = rgb.is_none() ? nullptr : static_cast<const std::uint8_t*>(colour.data());
              return locked(g, [&](Perception& self) {
                if (v.is_float)
                  return self.process(static_cast<const float*>(v.data), v.rows, v.row_stride, cam,

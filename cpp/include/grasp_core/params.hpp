@@ -45,7 +45,7 @@ struct SceneFilterParams {
   double segment_max_hue_diff_deg = 20.0; ///< max hue difference of linked neighbours [deg]; <= 0: colour unused
   double segment_min_saturation = 0.25;   ///< hue compared only where both pixels' saturation (max-min)/max >= this
   double segment_min_brightness = 30.0;   ///< ... and their max channel >= this (0..255)
-  int segment_absorb_max_points = 100;    ///< smaller segments join the large one they touch most (within cluster_eps); 0: never
+  int segment_absorb_max_points = 400;    ///< smaller segments join the large one they touch most (within cluster_eps); 0: never
   // (ours, issue 12) Depth noise model of the sensor: sigma(r) = depth_noise_sigma_m * (r / ref)^exp.
   double depth_noise_sigma_m = 0.002;    ///< depth noise sigma at depth_noise_ref_range_m [m]
   double depth_noise_ref_range_m = 0.4;  ///< [m]

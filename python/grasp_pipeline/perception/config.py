@@ -199,7 +199,7 @@ class SceneFilterConfig:
     segment_max_hue_diff_deg: float = 20.0
     segment_min_saturation: float = 0.25
     segment_min_brightness: float = 30.0
-    segment_absorb_max_points: int = 100
+    segment_absorb_max_points: int = 400
     #: (ours, issue 12) depth noise model sigma(r) = sigma * (r / ref)^exponent, and the
     #: range-dependent minimum object height (in sigmas of it; 0 disables).
     depth_noise_sigma_m: float = 0.002

@@ -72,12 +72,12 @@ def test_a_task_that_is_closed_while_looking_releases_its_request():
 
 
 def _frame(t: float):
-    return SimpleNamespace(T_world_camera=np.eye(4), time_s=t, points_world=np.zeros((0, 3)))
+    return SimpleNamespace(T_world_camera=np.eye(4), time_s=t, points_world=np.zeros((0, 3)), width=0, rgb=None)
 
 
 def test_liveness_counts_only_looking_time():
     cam = FakeCamera()
-    session = SimpleNamespace(process=lambda pts, pos, t: SimpleNamespace(raw=SimpleNamespace(tids=[], views=[])),
+    session = SimpleNamespace(process=lambda pts, pos, t, **kw: SimpleNamespace(raw=SimpleNamespace(tids=[], views=[])),
                               tracks=lambda: [], tracker=SimpleNamespace(last_gate=None), plane=None)
     loop = PerceptionLoop(session, ScanConfig(stale_timeout_s=0.5), ready_camera_pose=np.eye(4), camera=cam)
     assert loop.stale(cam.time_s)  # no frame ever
@@ -94,7 +94,7 @@ def test_liveness_counts_only_looking_time():
 
 
 def test_without_a_camera_liveness_is_on_simulated_time():
-    session = SimpleNamespace(process=lambda pts, pos, t: SimpleNamespace(raw=SimpleNamespace(tids=[], views=[])),
+    session = SimpleNamespace(process=lambda pts, pos, t, **kw: SimpleNamespace(raw=SimpleNamespace(tids=[], views=[])),
                               tracks=lambda: [], tracker=SimpleNamespace(last_gate=None), plane=None)
     loop = PerceptionLoop(session, ScanConfig(stale_timeout_s=0.5), ready_camera_pose=np.eye(4))
     loop.on_frame(_frame(1.0))
