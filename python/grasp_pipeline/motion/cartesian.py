@@ -20,7 +20,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation, Slerp
 
 from .config import MotionConfig
-from .exceptions import CartesianPathError, UnreachablePoseError
+from .exceptions import CartesianPathError, StartStateInvalidError, UnreachablePoseError
 from .ik import PandaIK
 from .poses import pose_error, validate_joints, validate_pose
 from .trajectory import JointPath
@@ -60,7 +60,7 @@ class CartesianPlanner:
         n0 = v.checked_states
         try:
             if not v.is_valid(q):
-                raise CartesianPathError(f"Cartesian segment start state is invalid: {v.explain(q)}")
+                raise StartStateInvalidError(f"Cartesian segment start state is invalid: {v.explain(q)}")
             path = self._solve_line(Rs, Ps, q, dist)
             bad = v.first_invalid_state(path, cfg.final_check_step_rad)
             if bad is not None:

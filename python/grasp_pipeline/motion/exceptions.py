@@ -48,6 +48,11 @@ class CartesianPathError(MotionError):
     """A straight-line Cartesian segment cannot be followed (IK gap, joint jump or collision)."""
 
 
+class StartStateInvalidError(CartesianPathError):
+    """A straight-line segment starts inside a clearance (e.g. a finger closed next to a
+    neighbour): the line is not planned; moving straight away may still be possible."""
+
+
 class TimeParameterizationError(MotionError):
     """TOPP-RA could not time the path within the joint velocity / acceleration limits."""
 

@@ -114,8 +114,10 @@ class TrajectoryExecutor:
                         rep.settled = True
                         break
                     if w.time_s >= t_limit:
+                        j = int(np.argmax(np.abs(w.q - q_final)))
                         self._stop("settle", f"the arm did not settle within {cfg.settle_timeout_s} s "
-                                             f"(error {err:.4f} rad, speed {np.max(np.abs(w.qd)):.4f} rad/s)")
+                                             f"(error {err:.4f} rad at joint {j + 1}, "
+                                             f"speed {np.max(np.abs(w.qd)):.4f} rad/s)")
                     w.step(_MONITOR_EVERY_STEPS)
                     self._monitor(rep, allowance, tolerated)
                     yield

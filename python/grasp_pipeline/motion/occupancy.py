@@ -35,6 +35,17 @@ log = logging.getLogger(__name__)
 _CLEARED_FINE_FRACTION = 0.5
 
 
+def cleared_cell_m(voxel_size_m: float) -> float:
+    """The fine grid cell [m] on which environment points near the grasp target are kept."""
+    return voxel_size_m * _CLEARED_FINE_FRACTION
+
+
+def cleared_rounding_m(voxel_size_m: float) -> float:
+    """How far a kept point near the grasp target may lie from its fine-grid cell centre
+    (half the cell's diagonal): subtracted from the nearest distances there."""
+    return 0.5 * math.sqrt(3.0) * cleared_cell_m(voxel_size_m)
+
+
 @dataclass(frozen=True)
 class OrientedBox:
     """A box obstacle: ``center`` (3,) m, rotation ``R`` (3, 3) (columns = box axes in
@@ -176,7 +187,7 @@ class OccupancyMap:
                     dd, _ = tree.query(points[near], distance_upper_bound=self.pad_m)
                     # point distances (minus the fine-grid rounding); + inflation keeps
                     # "distance_m - inflation_m" a lower bound
-                    fine = 0.5 * math.sqrt(3.0) * self.voxel_size_m * _CLEARED_FINE_FRACTION
+                    fine = cleared_rounding_m(self.voxel_size_m)
                     d[near] = dd - fine + self.inflation_m
         return d
 
@@ -196,7 +207,7 @@ class OccupancyMap:
         pts = pts[np.all(np.abs(pts - box.center) <= half, axis=1)]
         pts = pts[~box.contains(pts)]
         # de-duplicate on a fine grid (its rounding is subtracted from the distances)
-        f = self.voxel_size_m * _CLEARED_FINE_FRACTION
+        f = cleared_cell_m(self.voxel_size_m)
         if len(pts):
             ii = np.floor((pts - box.center) / f).astype(np.int64)
             lo = ii.min(axis=0)
@@ -222,7 +233,7 @@ class OccupancyMap:
             return None
         box, tree = self._cleared
         pts = np.zeros((0, 3)) if tree is None else np.asarray(tree.data, dtype=float)
-        return box, pts, 0.5 * math.sqrt(3.0) * self.voxel_size_m * _CLEARED_FINE_FRACTION
+        return box, pts, cleared_rounding_m(self.voxel_size_m)
 
     def __repr__(self) -> str:
         return (f"OccupancyMap({self.num_occupied} occupied voxels of {self.voxel_size_m * 100:.1f} cm, "

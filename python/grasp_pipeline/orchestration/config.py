@@ -65,6 +65,7 @@ class GraspConfig:
     carry_height_m: float = 0.30
     place_height_m: float = 0.15
     place_clearance_m: float = 0.015
+    place_hang_clearance_m: float = 0.08
     place_slot_dx_m: float = 0.05
     place_slot_dy_m: float = 0.08
     release_wait_s: float = 0.6

@@ -28,6 +28,7 @@ from typing import Optional, Sequence
 import numpy as np
 
 from ..exceptions import GraspPipelineError
+from ..motion.exceptions import StartStateInvalidError
 from ..motion.work_cell import WorkCell
 from ..robot.description import GRIPPER_MAX_WIDTH_M
 from ..robot.protocols import ContactAllowance
@@ -35,7 +36,8 @@ from ..results import GraspOutcome
 from .config import GraspConfig
 from .events import EventBus, GraspEvent, StageEvent
 from .grasp_planning import NoReachableGrasp, PlannedGrasp, opening_for, plan_grasp
-from .gripper_moves import ObjectDropped, StageFailure, close_until_stall, wait_gap, watch_held
+from .gripper_moves import (ObjectDropped, StageFailure, close_until_stall, hold_lost, lost_message,
+                            wait_gap, watch_held)
 from .place import place_in_tray, recover
 from .runtime import Runtime, Task
 from .scene_model import snapshot
@@ -184,11 +186,23 @@ class GraspAction:
             self.picked_at[target_tid] = np.asarray(scene.boxes[k].center[:2], float).copy()
 
         self._enter(out, GraspStage.LIFT)
+        yield from self._lift(plan, out)
+        yield from self._hold_check(out)
+
+    def _lift(self, plan: PlannedGrasp, out: GraspOutcome):
+        """Task: straight up by ``lift_height_m``; when the closed hand sits inside a
+        neighbour's clearance (the line's start is refused), straight up without the check."""
+        cfg, motion = self.config, self.motion
         T_lift = plan.T_grasp.copy()
         T_lift[:3, 3] -= cfg.lift_height_m * plan.approach_axis
-        yield from self.carrying(motion.line(T_lift, kind="lift", allow_target_contact=True,
-                                             allowance=ContactAllowance.HELD_OBJECT), out, "LIFT")
-        yield from self._hold_check(out)
+        held = ContactAllowance.HELD_OBJECT
+        try:
+            yield from self.carrying(motion.line(T_lift, kind="lift", allow_target_contact=True,
+                                                 allowance=held), out, "LIFT")
+        except StartStateInvalidError as exc:
+            log.warning("lift line refused (%s); lifting straight up", exc)
+            yield from self.carrying(motion.escape_up(cfg.lift_height_m, kind="lift", allowance=held),
+                                     out, "LIFT")
 
     def _plan(self, candidates: list) -> PlannedGrasp:
         """:func:`plan_grasp` for the candidates; publishes a :class:`GraspEvent` (the chosen
@@ -214,8 +228,6 @@ class GraspAction:
         cfg, robot = self.config, self.robot
         t_end = robot.time_s + cfg.hold_check_s
         while robot.time_s < t_end:
-            gap = robot.finger_gap_m
-            if gap < out.stall_gap_m - cfg.held_gap_drop_m:
-                raise StageFailure(f"object lost after lifting: finger gap fell from "
-                                   f"{out.stall_gap_m * 1e3:.1f} to {gap * 1e3:.1f} mm")
+            if hold_lost(robot, out.stall_gap_m, cfg):
+                raise StageFailure(lost_message(robot, out.stall_gap_m, "lost after lifting"))
             yield

@@ -201,16 +201,19 @@ class HandSpheres:
 def _sphere_need(boxes: np.ndarray, a0: float, mid: float, opening_m: float,
                  spheres: HandSpheres) -> float:
     """The lowest contact height at which no hand sphere, coming straight down, meets a box
-    sample (``boxes``: local (c, a, h) samples of the neighbours' grown boxes); both closing
-    signs (the planner chooses one by the arm's posture)."""
+    sample (``boxes``: local (c, a, h) samples of the neighbours' grown boxes, optionally a
+    4th column: how much farther than the sphere's radius a sample must stay — environment
+    points, kept at the planner's margin); both closing signs (the planner chooses one by
+    the arm's posture)."""
     if len(boxes) == 0:
         return -np.inf
     cen, rad = spheres.at(opening_m), spheres.radii
+    grow = boxes[:, 3] if boxes.shape[1] > 3 else np.zeros(len(boxes))
     need = -np.inf
     for s in (1.0, -1.0):
         dc = boxes[:, 0][None, :] - (mid + s * cen[:, 1])[:, None]
         da = boxes[:, 1][None, :] - (a0 + s * cen[:, 0])[:, None]
-        d2 = rad[:, None] ** 2 - dc ** 2 - da ** 2
+        d2 = (rad[:, None] + grow[None, :]) ** 2 - dc ** 2 - da ** 2
         hit = d2 > 0
         if np.any(hit):
             k, p = np.nonzero(hit)
@@ -311,13 +314,34 @@ def box_samples(boxes, plane_n: np.ndarray, plane_c: float, margin_m: float, ste
     return np.vstack(out) if out else np.zeros((0, 3))
 
 
+def _environment_obstacles(lc: SceneCloud, h_all: np.ndarray, box, cell_m: float,
+                           cleared_m: float) -> np.ndarray:
+    """Environment points above the table band and outside ``box`` (the target's estimate)
+    grown by ``cleared_m`` (the planner ignores them in the final approach), as the centres of
+    the ``cell_m`` grid cells (at the box centre) holding them — the planner's own rounding of
+    the points near the target."""
+    env = lc.points[(lc.owner == ENVIRONMENT) & (h_all > lc.band_m)]
+    if len(env) == 0:
+        return env
+    R, c = np.asarray(box.R_box, float), np.asarray(box.center, float)
+    half = 0.5 * np.asarray(box.extents, float) + cleared_m
+    env = env[~np.all(np.abs((env - c) @ R) <= half, axis=1)]
+    cells = np.unique(np.floor((env - c) / cell_m).astype(np.int64), axis=0)
+    return c + (cells + 0.5) * cell_m
+
+
 def fit_lines(track, cloud: SceneCloud, hand: HandClearances, grasp_cfg: GraspConfig,
               cfg: GraspFitConfig, min_width_m: float, max_width_m: float,
               neighbour_boxes: tuple = (), box_margin_m: float = 0.0,
-              spheres: Optional[HandSpheres] = None) -> list[FittedLine]:
+              spheres: Optional[HandSpheres] = None,
+              env_grid: tuple[float, float, float] = (0.0, 0.005, 0.0)) -> list[FittedLine]:
     """Every checked line of ``track`` (ok and not), in no particular order.
     ``neighbour_boxes``: the planner's boxes of the other objects (sampled, footprints grown
-    by ``box_margin_m``), kept clear of the planner's hand ``spheres``."""
+    by ``box_margin_m``), kept clear of the planner's hand ``spheres``; so are the environment
+    points above the table band outside the target's box (unsegmented parts of a pile, which
+    the planner's occupancy map holds): ``env_grid`` = (margin [m], grid cell [m], cleared
+    padding [m]), the planner's margin, its rounding of the points near the target and how
+    far around the target's box it ignores them."""
     tid = int(track.tid)
     e = track.smoothed
     reach = 0.5 * float(np.hypot(*np.asarray(e.extents)[:2])) + _HAND_REACH_M
@@ -328,6 +352,9 @@ def fit_lines(track, cloud: SceneCloud, hand: HandClearances, grasp_cfg: GraspCo
     h_all = lc.heights_m()
     obst_pts = lc.points[~own_mask & ((lc.owner != ENVIRONMENT) | (h_all > lc.band_m))]
     box_pts = box_samples(neighbour_boxes, lc.plane_n, lc.plane_c, box_margin_m, cfg.footprint_cell_m)
+    env_pts = _environment_obstacles(lc, h_all, e, env_grid[1], env_grid[2])
+    box_pts = np.vstack([np.c_[box_pts, np.zeros(len(box_pts))],
+                         np.c_[env_pts, np.full(len(env_pts), env_grid[0])]])
     centroid = footprint_centroid(lc.points[own_mask], cfg.footprint_cell_m)
     open_max = max_width_m + grasp_cfg.open_margin_m  # the gripper's opening
     lim = LineLimits(hand, grasp_cfg.open_margin_m, min_width_m, open_max - cfg.min_open_margin_m,
@@ -337,7 +364,7 @@ def fit_lines(track, cloud: SceneCloud, hand: HandClearances, grasp_cfg: GraspCo
         lim = replace(lim, box_half_c=0.5 * float(np.asarray(e.extents)[k]))
         own = _local(fr, lc.points[own_mask], lc)
         obst = _local(fr, obst_pts, lc)
-        boxes = _local(fr, box_pts, lc)
+        boxes = np.c_[_local(fr, box_pts[:, :3], lc), box_pts[:, 3]]
         a_cent = float((centroid - fr.origin) @ fr.e_a)
         a_lo, a_hi = float(own[:, 1].min()), float(own[:, 1].max())
         offsets = sorted(set(np.round(np.arange(a_lo, a_hi + 1e-9, cfg.line_step_m), 4)) | {round(a_cent, 4)})

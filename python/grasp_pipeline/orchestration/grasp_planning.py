@@ -65,15 +65,20 @@ def plan_grasp(motion, candidates: list, config: GraspConfig, reference_tcp: np.
     """The first candidate × back-off whose pre-grasp and approach can both be planned.
 
     ``motion``: the :class:`~.motion_client.MotionClient` (scene already set, target marked);
-    ``finger_gap_m``: the fingers' gap now (the collision model uses the wider of it and the
-    opening). Raises :class:`NoReachableGrasp` listing every try's failure."""
+    ``finger_gap_m``: the fingers' gap now. The pre-grasp motion is checked with the wider of
+    it and the opening (the fingers move to the opening on the way); the approach with the
+    opening alone (the grasp action waits for it before descending), which is the opening the
+    grasp source checked against the neighbours. Raises :class:`NoReachableGrasp` listing
+    every try's failure."""
     errors = []
     tries = [(k, g, b) for k, g in enumerate(candidates) for b in config.approach_backoffs_m]
     for n, (k, g, backoff) in enumerate(tries, start=1):
         T_grasp, T_pre = grasp_tcp_poses(g, backoff, config, reference_tcp)
-        motion.planner.set_finger_opening(max(opening_for(g, config, max_width_m), finger_gap_m))
+        opening = opening_for(g, config, max_width_m)
         try:
+            motion.planner.set_finger_opening(max(opening, finger_gap_m))
             traj_pre = motion.plan_pose(T_pre)
+            motion.planner.set_finger_opening(opening)
             traj_app = motion.plan_line(T_grasp, q_from=traj_pre.q[-1], allow_target_contact=True)
         except MotionError as exc:
             errors.append(f"grasp {k + 1} (backoff {backoff * 1e3:.0f} mm): {exc}")

@@ -24,6 +24,7 @@ from typing import Optional, Protocol, Sequence, runtime_checkable
 import numpy as np
 
 from .. import _core
+from ..motion.occupancy import cleared_cell_m, cleared_rounding_m
 from ..motion.perceived_scene import PerceivedScene
 from ..motion.robot_spheres import hand_spheres_in_tcp
 from ..robot.description import GRIPPER_MAX_WIDTH_M, HandClearances, hand_clearances, load_robot_model
@@ -115,6 +116,11 @@ class GeometricGraspSource:
         self.fit = fit or GraspFitConfig()
         self.box_margin_m = 0.0 if motion is None else float(motion.collision_margin_m)
         self.spheres = None if motion is None else planner_hand_spheres(motion.sphere_cell_m)
+        # environment points as the planner holds them near the target: on its fine grid,
+        # kept at its margin plus that grid's rounding (OccupancyMap.with_cleared_region)
+        self.env_grid = (0.0, 0.005, 0.0) if motion is None else (
+            self.box_margin_m + cleared_rounding_m(float(motion.voxel_size_m)),
+            cleared_cell_m(float(motion.voxel_size_m)), float(motion.target_ignore_padding_m))
 
     def _neighbour_boxes(self, request: GraspRequest) -> list:
         tid = int(request.target.tid)
@@ -132,7 +138,8 @@ class GeometricGraspSource:
             return []
         lines = fit_lines(request.target, request.cloud, self.hand, self.config, self.fit,
                           request.min_width_m, request.max_width_m,
-                          tuple(self._neighbour_boxes(request)), self.box_margin_m, self.spheres)
+                          tuple(self._neighbour_boxes(request)), self.box_margin_m, self.spheres,
+                          self.env_grid)
         ranked = rank_lines(lines, self.fit)
         if not ranked:
             reasons = sorted({ln.reason.split(" (")[0].split(" by ")[0] if ln.reason else

@@ -7,8 +7,9 @@ Everything here reads only the :class:`~grasp_pipeline.robot.protocols.Gripper` 
 * :func:`close_until_stall` — close on an object until the fingers *stall* (speed below
   ``stall_speed_mps`` for ``stall_time_s``); reaching the commanded gap, closing fully or
   stalling without force means nothing is held;
-* :func:`watch_held` — wrap a motion so that a drop (gap falling ``held_gap_drop_m`` below
-  the stall gap) aborts it at once.
+* :func:`watch_held` — wrap a motion so that a drop (:func:`hold_lost`: the gap fell
+  ``held_gap_drop_m`` below the stall gap *and* the squeeze force fell below
+  ``held_min_force_N``) aborts it at once.
 """
 
 from __future__ import annotations
@@ -86,17 +87,29 @@ def _check_held(robot, width_m: float, config: GraspConfig) -> float:
     return gap
 
 
+def hold_lost(robot, stall_gap_m: float, config: GraspConfig) -> bool:
+    """Whether the gripper has lost the object it stalled on at ``stall_gap_m``: the gap fell
+    more than ``held_gap_drop_m`` below the stall gap and the squeeze force fell below
+    ``held_min_force_N`` (the fingers no longer press on anything). A narrower gap at full
+    force is still a hold: a rounded object turns a little between the pads and settles."""
+    return (robot.finger_gap_m < stall_gap_m - config.held_gap_drop_m
+            and robot.gripper_force_N < config.held_min_force_N)
+
+
+def lost_message(robot, stall_gap_m: float, when: str) -> str:
+    return (f"object {when}: finger gap fell from {stall_gap_m * 1e3:.1f} to "
+            f"{robot.finger_gap_m * 1e3:.1f} mm, squeeze {max(0.0, robot.gripper_force_N):.1f} N")
+
+
 def watch_held(robot, motion_gen, stall_gap_m: float, config: GraspConfig, stage: str):
-    """Task: run ``motion_gen`` and raise :class:`ObjectDropped` as soon as the gap falls
-    more than ``held_gap_drop_m`` below ``stall_gap_m``; returns the motion's result."""
-    limit = stall_gap_m - config.held_gap_drop_m
+    """Task: run ``motion_gen`` and raise :class:`ObjectDropped` as soon as
+    :func:`hold_lost`; returns the motion's result."""
     while True:
         try:
             next(motion_gen)
         except StopIteration as done:
             return done.value
-        if robot.finger_gap_m < limit:
+        if hold_lost(robot, stall_gap_m, config):
             motion_gen.close()  # the executor holds the arm where it is
-            raise ObjectDropped(f"object dropped during {stage}: finger gap fell from "
-                                f"{stall_gap_m * 1e3:.1f} to {robot.finger_gap_m * 1e3:.1f} mm")
+            raise ObjectDropped(lost_message(robot, stall_gap_m, f"dropped during {stage}"))
         yield

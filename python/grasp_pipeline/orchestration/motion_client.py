@@ -85,18 +85,19 @@ class MotionClient:
         self.q_cmd = traj.q[-1].copy()
         return report
 
-    def escape_up(self, distance_m: float, kind: str = "escape"):
+    def escape_up(self, distance_m: float, kind: str = "escape",
+                  allowance: ContactAllowance = NONE):
         """Task generator: straight up by ``distance_m`` when the planner refuses to start
         (the arm sits inside a *clearance*, e.g. after opening the fingers near a wall).
         The short joint-space line to the IK solution above is not collision-checked against
         the clearance; contacts present at its start are tolerated (moving away from what
-        stopped the arm), any new contact stops it."""
+        stopped the arm), any new contact that ``allowance`` does not cover stops it."""
         T = self.world.tcp_pose().copy()
         T[2, 3] += max(0.0, float(distance_m))
         ik = self.planner.solve_ik(T, self.q_cmd, "tcp")
         path = JointPath(np.vstack([self.q_cmd, ik.q]), 0.0, "escape", 0, 0)
         traj = self.planner.timer.time_path(path)
-        return (yield from self._execute(kind, traj, release_contacts=True))
+        return (yield from self._execute(kind, traj, allowance, release_contacts=True))
 
     def sync(self) -> None:
         """After a stop, plan from where the arm actually is."""

@@ -17,6 +17,7 @@ import logging
 import numpy as np
 
 from ..exceptions import GraspPipelineError
+from ..motion.exceptions import UnreachablePoseError
 from ..motion.grasp_poses import tcp_rotation
 from ..robot.description import GRIPPER_MAX_WIDTH_M
 from ..robot.protocols import ContactAllowance
@@ -37,6 +38,15 @@ def tray_slot(k: int, dx_m: float, dy_m: float) -> np.ndarray:
     """Offset of the k-th drop slot from the tray centre: a 2 x 3 grid, then round again."""
     k = k % 6
     return np.array([dx_m * (1 if k % 2 == 0 else -1), dy_m * (k // 2 - 1), 0.0])
+
+
+def arrival_height_m(action) -> float:
+    """TCP height [m] above the tray floor when arriving over a slot: ``place_height_m``, or
+    higher so that the held object's bottom — hanging as far below the TCP as the TCP stood
+    above the table at the grasp — clears the floor by ``place_hang_clearance_m``."""
+    cfg = action.config
+    hang_m = action.tcp_height_m or 0.0
+    return max(cfg.place_height_m, hang_m + cfg.place_hang_clearance_m)
 
 
 def _carry_up(action, out: GraspOutcome, plane_z_m: float):
@@ -64,17 +74,19 @@ def _lower(action, out: GraspOutcome, T_above: np.ndarray, slot: np.ndarray):
         return
     # the object's bottom hangs as far below the TCP as the TCP stood above the table
     z_release = cfg.place_clearance_m + action.tcp_height_m
-    if z_release >= cfg.place_height_m:
+    if z_release >= arrival_height_m(action):
         return
     T_down = T_above.copy()
     T_down[2, 3] = slot[2] + z_release
     try:
         yield from action.carrying(motion.line(T_down, kind="place_down", allowance=HELD), out, "PLACE")
-    except ObjectDropped:
-        raise
+    except ObjectDropped as exc:  # pushed out of the fingers by what lies in the tray: released
+        log.warning("the object left the fingers while being lowered into the tray (%s); "
+                    "it is released there", exc)
+        motion.sync()
     except GraspPipelineError as exc:  # a crowded tray: release from above instead
-        log.warning("could not lower the object into the tray (%s); releasing from %.0f mm",
-                    exc, cfg.place_height_m * 1e3)
+        log.warning("could not lower the object into the tray (%s); releasing %.0f mm above "
+                    "its floor", exc, (action.robot.tcp_pose()[2, 3] - slot[2]) * 1e3)
         motion.sync()
 
 
@@ -85,12 +97,20 @@ def place_in_tray(action, out: GraspOutcome):
     slot = cell.tray_center_m + tray_slot(action.placed_count, cfg.place_slot_dx_m, cfg.place_slot_dy_m)
     T_above = np.eye(4)
     T_above[:3, :3] = tcp_rotation(_DOWN, _WORLD_X, robot.tcp_pose())
-    T_above[:3, 3] = slot + np.array([0.0, 0.0, cfg.place_height_m])
     motion.set_target(None)
     plane = action.loop.plane
     yield from _carry_up(action, out, plane.height_m if plane is not None else float(slot[2]))
-    yield from action.carrying(motion.to_pose(T_above, frame="tcp", kind="place", allowance=HELD),
-                               out, "PLACE")
+    for z in sorted({arrival_height_m(action), cfg.place_height_m}, reverse=True):
+        T_above[:3, 3] = slot + np.array([0.0, 0.0, z])
+        try:
+            yield from action.carrying(motion.to_pose(T_above, frame="tcp", kind="place",
+                                                      allowance=HELD), out, "PLACE")
+            break
+        except UnreachablePoseError as exc:  # far slots are near the arm's reach
+            if z <= cfg.place_height_m:
+                raise
+            log.warning("arriving %.0f mm above the tray floor is out of reach (%s); "
+                        "arriving at %.0f mm", z * 1e3, exc, cfg.place_height_m * 1e3)
     yield from _lower(action, out, T_above, slot)
     out.release_time_s = float(robot.time_s)
     # Open only a little beyond the object: fully open fingers could reach the tray walls.
@@ -103,16 +123,19 @@ def place_in_tray(action, out: GraspOutcome):
 
 
 def _leave_tray(action, T_above: np.ndarray):
+    """Task: up out of the tray and home. The tray's contents are not perceived, so the hand
+    may brush what lies there on the way up: contacts present when a motion starts and the
+    fingers' contacts with objects do not stop it; the palm meeting something new does."""
     cfg, robot, motion = action.config, action.robot, action.motion
     if float(np.linalg.norm(robot.tcp_pose()[:3, 3] - T_above[:3, 3])) > cfg.gripper_goal_tolerance_m:
         try:
-            yield from motion.line(T_above, kind="place_up", allowance=FINGERS)
+            yield from motion.line(T_above, kind="place_up", allowance=FINGERS, release_contacts=True)
         except GraspPipelineError as exc:
             log.warning("place_up not plannable (%s); escaping straight up", exc)
             motion.sync()
-            yield from motion.escape_up(T_above[2, 3] - robot.tcp_pose()[2, 3])
+            yield from motion.escape_up(T_above[2, 3] - robot.tcp_pose()[2, 3], allowance=FINGERS)
     if action.home_q is not None:
-        yield from motion.to_joints(action.home_q, kind="home")
+        yield from motion.to_joints(action.home_q, kind="home", release_contacts=True)
 
 
 def _retreat(action):

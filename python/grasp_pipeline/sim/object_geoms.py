@@ -26,6 +26,13 @@ from .scene_spec import ObjectSpec
 
 #: Prefix of object body and geom names in the model.
 OBJECT_PREFIX = "obj_"
+
+
+def geom_object(geom_name: str) -> str:
+    """The object a geom belongs to: a mesh object's collision parts ``obj_<name>_p<k>`` all
+    belong to ``obj_<name>``; any other geom name is returned as it is."""
+    head, sep, k = geom_name.rpartition("_p")
+    return head if sep and k.isdigit() else geom_name
 #: Geom group the cameras do not render (they see groups 0-2): objects made invisible.
 HIDDEN_GEOM_GROUP = 3
 #: Group of a mesh object's visual geom (seen by cameras; it does not collide).

@@ -52,7 +52,7 @@ from ..robot.description import (
     arm_dof_indices,
     arm_qpos_indices,
 )
-from .object_geoms import OBJECT_PREFIX, add_object
+from .object_geoms import OBJECT_PREFIX, add_object, geom_object
 from .scene_spec import SceneSpec
 from .scenes import reference_scene
 from .work_cell import TABLE_TOP_GEOM, read_work_cell
@@ -528,16 +528,17 @@ class SimWorld:
         robot contacts that ``allowance`` does not cover, as ``"robot_geom-other_geom"``.
 
         ``FINGERS``: finger geoms touching objects are expected. ``HELD_OBJECT``: the objects
-        the finger pads touch now may touch any robot geom (a held object tilting against the
-        palm). Fixtures (table, tray, wall) are never expected."""
+        the finger pads touch now (any of their collision parts) may touch any robot geom (a
+        held object tilting against the palm). Fixtures (table, tray, wall) are never expected."""
         contacts = self.robot_contacts()
         if allowance is ContactAllowance.NONE or not contacts:
             return [f"{r}-{o}" for r, o in contacts]
         if allowance is ContactAllowance.FINGERS:
             ok = {(r, o) for r, o in contacts if FINGER_GEOM_MARK in r and o.startswith(OBJECT_PREFIX)}
         else:
-            held = {o for r, o in contacts if FINGER_GEOM_MARK in r and o.startswith(OBJECT_PREFIX)}
-            ok = {(r, o) for r, o in contacts if o in held}
+            held = {geom_object(o) for r, o in contacts
+                    if FINGER_GEOM_MARK in r and o.startswith(OBJECT_PREFIX)}
+            ok = {(r, o) for r, o in contacts if geom_object(o) in held}
         return [f"{r}-{o}" for r, o in contacts if (r, o) not in ok]
 
     @property

@@ -4,6 +4,8 @@ motion client: enough to drive the grasp action without any simulator.
 The gripper moves its gap towards the command at a fixed speed; when an object of
 ``object_width_m`` lies between the fingers, closing stalls there and squeezes with the
 commanded effort. ``slip_at_s``: from then on the object is gone (the fingers close on air).
+``turn_at_s``/``turned_width_m``: from then on the object is that narrow (a rounded object
+turning between the pads; the fingers follow it and keep squeezing).
 """
 
 from __future__ import annotations
@@ -19,7 +21,8 @@ GRIPPER_SPEED_MPS = 0.1
 
 class FakeRobot:
     def __init__(self, object_width_m: float | None = 0.05, slip_at_s: float | None = None,
-                 squeeze_N: float | None = None) -> None:
+                 squeeze_N: float | None = None, turn_at_s: float | None = None,
+                 turned_width_m: float | None = None) -> None:
         self.time_s = 0.0
         self.timestep_s = 0.002
         self.q = np.zeros(7)
@@ -29,6 +32,7 @@ class FakeRobot:
         self.gripper_force_N = 0.0
         self.object_width_m = object_width_m
         self.slip_at_s = slip_at_s
+        self.turn_at_s, self.turned_width_m = turn_at_s, turned_width_m
         self.squeeze_N = squeeze_N  # force reported at a stall (default: the effort)
         self._cmd, self._effort = 0.08, 40.0
         self.tcp = np.eye(4)
@@ -45,6 +49,11 @@ class FakeRobot:
     def _move_fingers(self) -> None:
         if self.slip_at_s is not None and self.time_s >= self.slip_at_s:
             self.object_width_m = None
+        if self.turn_at_s is not None and self.time_s >= self.turn_at_s and self.object_width_m \
+                and self.object_width_m != self.turned_width_m:
+            self.object_width_m = self.turned_width_m
+            if self.finger_gap_m > self.object_width_m:  # the pads follow the turning object
+                self.finger_gap_m = self.object_width_m
         target = self._cmd
         blocked = self.object_width_m is not None and target < self.object_width_m <= self.finger_gap_m + 1e-9
         if blocked:
@@ -106,6 +115,8 @@ class FakeMotion:
         self.planner = SimpleNamespace(set_finger_opening=lambda m: None)
         self.executed: list[tuple[str, ContactAllowance]] = []
         self.unreachable_kinds = set(unreachable_kinds)
+        self.refused_lines: set[str] = set()  # line kinds refused as starting in a clearance
+        self.escapes: list[str] = []
         self.scene = None
         self.q_cmd = np.zeros(7)
 
@@ -139,6 +150,10 @@ class FakeMotion:
 
     def line(self, T, frame="tcp", kind="line", allow_target_contact=False, allowance=ContactAllowance.NONE,
              release_contacts=False):
+        if kind in self.refused_lines:
+            from grasp_pipeline.motion.exceptions import StartStateInvalidError
+
+            raise StartStateInvalidError(f"{kind}: start state is invalid (fake)")
         return (yield from self.execute(kind, FakeTrajectory(np.asarray(T)), allowance))
 
     def to_pose(self, T, frame="tcp", kind="pose", allowance=ContactAllowance.NONE):
@@ -147,10 +162,11 @@ class FakeMotion:
     def to_joints(self, q, kind="joints", allowance=ContactAllowance.NONE, release_contacts=False):
         return (yield from self.execute(kind, FakeTrajectory(self.robot.tcp), allowance))
 
-    def escape_up(self, distance_m, kind="escape"):
+    def escape_up(self, distance_m, kind="escape", allowance=ContactAllowance.NONE):
         T = self.robot.tcp.copy()
         T[2, 3] += distance_m
-        return (yield from self.execute(kind, FakeTrajectory(T)))
+        self.escapes.append(kind)
+        return (yield from self.execute(kind, FakeTrajectory(T), allowance))
 
 
 def fake_loop():

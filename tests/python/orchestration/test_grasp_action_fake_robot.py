@@ -75,6 +75,31 @@ def test_an_object_slipping_out_while_carrying_fails_place_as_a_drop():
     assert "home" in [k for k, _ in motion2.executed]
 
 
+def test_an_object_turning_narrower_between_the_pads_is_still_held():
+    """A rounded object that turns 5 mm narrower at full squeeze while carried is a hold (the
+    gap alone once called it lost); the same gap with no squeeze left is a drop."""
+    probe, _ = run_action(FakeRobot(object_width_m=0.05), top_down_grasp(),
+                          config=GraspConfig(hold_check_s=0.5))
+    t_lift = next(t for s, t in probe.stages if s == "LIFT")
+    robot = FakeRobot(object_width_m=0.05, turn_at_s=t_lift + 0.05, turned_width_m=0.045)
+    out, _ = run_action(robot, top_down_grasp(), config=GraspConfig(hold_check_s=0.5))
+    assert out.success and out.placed, out.message
+    assert out.stall_gap_m - 0.045 > GraspConfig().held_gap_drop_m
+    gone = FakeRobot(object_width_m=0.05, slip_at_s=t_lift + 0.05)
+    out2, _ = run_action(gone, top_down_grasp(), config=GraspConfig(hold_check_s=0.5))
+    assert not out2.success and "squeeze 0.0 N" in out2.message
+
+
+def test_a_lift_refused_inside_a_clearance_goes_straight_up_holding_the_object():
+    robot = FakeRobot(object_width_m=0.05)
+    motion = FakeMotion(robot)
+    motion.refused_lines.add("lift")
+    out, motion = run_action(robot, top_down_grasp(), motion=motion, config=GraspConfig(hold_check_s=0.5))
+    assert out.success and out.placed, out.message
+    assert motion.escapes == ["lift"]
+    assert dict(motion.executed)["lift"] is ContactAllowance.HELD_OBJECT
+
+
 def test_unplannable_candidates_are_refused_before_any_motion():
     from grasp_pipeline.motion.exceptions import PlanningFailedError
 

@@ -118,6 +118,28 @@ def test_a_neighbour_box_under_the_hand_raises_the_grasp_or_refuses_it():
     assert any("neighbour's box" in ln.reason for ln in lines if ln.axis == 1)
 
 
+def test_unsegmented_environment_points_under_the_hand_count_like_a_neighbour_box():
+    """A pile's unsegmented part (environment points 20 cm high beside the cube) blocks the
+    hand as the planner's occupancy map does; the same points inside the target's cleared
+    padding do not (the planner ignores them in the final approach)."""
+    spheres = planner_hand_spheres(0.04)
+    cube = block(0.50, 0.54, 0.00, 0.04, 0.0, 0.06)
+    heap = block(0.49, 0.55, 0.085, 0.145, 0.0, 0.20, sides=False)
+    cloud = scene((0, cube), (ENV, table()), (ENV, heap))
+    grid = (0.005 + 0.0043, 0.005, 0.05)
+
+    def fit(grid_):
+        lines = fit_lines(track_of(0, cube), cloud, HAND, GRASP, CFG, 0.005, 0.06, (), 0.005,
+                          spheres, grid_)
+        return lines, rank_lines(lines, CFG)
+
+    lines, ranked = fit(grid)
+    assert all(ln.axis == 0 for ln in ranked)
+    assert any("neighbour" in ln.reason for ln in lines if ln.axis == 1)
+    _, ranked_cleared = fit((grid[0], grid[1], 0.2))  # the heap inside the cleared padding
+    assert any(ln.axis == 1 for ln in ranked_cleared)
+
+
 def test_box_samples_cover_the_grown_top_face():
     b = OrientedBox(np.array([0.5, 0.0, 0.02]), np.eye(3), np.array([0.04, 0.02, 0.04]))
     s = box_samples([b], UP, 0.0, 0.005, 0.003)
