@@ -109,7 +109,7 @@ def _grasp_motions(system, rec: _Recorder, track, settings) -> None:
     t0, c0 = time.perf_counter(), time.thread_time()
     try:
         planned = plan_grasp(motion, GeometricGraspSource(cfg).propose(req), cfg,
-                             system.world.tcp_pose(), system.world.finger_gap_m, GRIPPER_MAX_WIDTH_M)
+                             system.world.tcp_pose(), GRIPPER_MAX_WIDTH_M)
     except MotionError as exc:
         rec.records.append(MotionRecord(scene=rec.scene, kind="pregrasp+approach", ok=False,
                                         planning_ms=(time.perf_counter() - t0) * 1e3, method="none",

@@ -172,8 +172,8 @@ class GraspAction:
         out.width_m, out.candidate = float(plan.grasp.width_m), plan.index
         opening = opening_for(plan.grasp, cfg, GRIPPER_MAX_WIDTH_M)
         robot.set_gripper(opening, effort_N=cfg.close_effort_N)
+        yield from wait_gap(robot, opening, cfg)  # the fingers as planned before the arm moves
         yield from motion.execute("pre_grasp", plan.pre_grasp)
-        yield from wait_gap(robot, opening, cfg)
 
         self._enter(out, GraspStage.APPROACH)
         yield from motion.execute("approach", plan.approach, ContactAllowance.FINGERS)
@@ -210,7 +210,7 @@ class GraspAction:
         robot = self.robot
         try:
             plan = plan_grasp(self.motion, candidates, self.config, robot.tcp_pose(),
-                              robot.finger_gap_m, GRIPPER_MAX_WIDTH_M)
+                              GRIPPER_MAX_WIDTH_M)
         except NoReachableGrasp:
             if self.events.wants(GraspEvent):
                 self.events.publish(GraspEvent(float(robot.time_s), tuple(candidates)))

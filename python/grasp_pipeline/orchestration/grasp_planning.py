@@ -61,24 +61,21 @@ def grasp_tcp_poses(grasp, backoff_m: float, config: GraspConfig,
 
 
 def plan_grasp(motion, candidates: list, config: GraspConfig, reference_tcp: np.ndarray,
-               finger_gap_m: float, max_width_m: float) -> PlannedGrasp:
+               max_width_m: float) -> PlannedGrasp:
     """The first candidate × back-off whose pre-grasp and approach can both be planned.
 
-    ``motion``: the :class:`~.motion_client.MotionClient` (scene already set, target marked);
-    ``finger_gap_m``: the fingers' gap now. The pre-grasp motion is checked with the wider of
-    it and the opening (the fingers move to the opening on the way); the approach with the
-    opening alone (the grasp action waits for it before descending), which is the opening the
-    grasp source checked against the neighbours. Raises :class:`NoReachableGrasp` listing
-    every try's failure."""
+    ``motion``: the :class:`~.motion_client.MotionClient` (scene already set, target marked).
+    Both motions are checked with the fingers at the grasp's opening: the grasp action sets
+    the fingers to it before the arm moves (the opening the grasp source checked against the
+    neighbours; fully open fingers left from the previous pick collided with piles at the
+    pre-grasp). Raises :class:`NoReachableGrasp` listing every try's failure."""
     errors = []
     tries = [(k, g, b) for k, g in enumerate(candidates) for b in config.approach_backoffs_m]
     for n, (k, g, backoff) in enumerate(tries, start=1):
         T_grasp, T_pre = grasp_tcp_poses(g, backoff, config, reference_tcp)
-        opening = opening_for(g, config, max_width_m)
+        motion.planner.set_finger_opening(opening_for(g, config, max_width_m))
         try:
-            motion.planner.set_finger_opening(max(opening, finger_gap_m))
             traj_pre = motion.plan_pose(T_pre)
-            motion.planner.set_finger_opening(opening)
             traj_app = motion.plan_line(T_grasp, q_from=traj_pre.q[-1], allow_target_contact=True)
         except MotionError as exc:
             errors.append(f"grasp {k + 1} (backoff {backoff * 1e3:.0f} mm): {exc}")

@@ -117,6 +117,7 @@ class FakeMotion:
         self.unreachable_kinds = set(unreachable_kinds)
         self.refused_lines: set[str] = set()  # line kinds refused as starting in a clearance
         self.escapes: list[str] = []
+        self.gap_at_start: dict[str, float] = {}  # finger gap when each kind of motion first started
         self.scene = None
         self.q_cmd = np.zeros(7)
 
@@ -141,6 +142,7 @@ class FakeMotion:
         if kind in self.unreachable_kinds:
             raise PlanningFailedError(f"{kind}: no path (fake)")
         self.executed.append((kind, allowance))
+        self.gap_at_start.setdefault(kind, self.robot.finger_gap_m)
         t_end = self.robot.time_s + traj.duration_s
         while self.robot.time_s < t_end:
             self.robot.step()

@@ -51,6 +51,17 @@ def test_a_grasp_runs_every_stage_and_places():
     assert allowances["place"] is ContactAllowance.HELD_OBJECT
 
 
+def test_the_fingers_are_at_the_grasp_opening_before_the_arm_moves():
+    """The pre-grasp and approach are planned with the fingers at the grasp's opening (the
+    width + open_margin_m), so the fingers get there before the arm leaves (fully open
+    fingers from the previous pick would sweep past what the plan checked)."""
+    robot = FakeRobot(object_width_m=0.03)
+    assert robot.finger_gap_m == pytest.approx(0.08)
+    out, motion = run_action(robot, top_down_grasp(width=0.03))
+    assert out.success, out.message
+    assert motion.gap_at_start["pre_grasp"] == pytest.approx(0.03 + GraspConfig().open_margin_m, abs=1e-3)
+
+
 def test_closing_on_nothing_fails_close_and_recovers():
     out, motion = run_action(FakeRobot(object_width_m=None), top_down_grasp())
     assert not out.success and out.failed_stage == "CLOSE"
