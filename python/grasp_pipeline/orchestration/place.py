@@ -135,7 +135,7 @@ def _leave_tray(action, T_above: np.ndarray):
             motion.sync()
             yield from motion.escape_up(T_above[2, 3] - robot.tcp_pose()[2, 3], allowance=FINGERS)
     if action.home_q is not None:
-        yield from motion.to_joints(action.home_q, kind="home", release_contacts=True)
+        yield from motion.to_joints(action.home_q, kind="home", allowance=FINGERS, release_contacts=True)
 
 
 def _retreat(action):
@@ -166,7 +166,7 @@ def recover(action):
     yield from _retreat(action)
     if action.home_q is not None:
         try:
-            yield from motion.to_joints(action.home_q, kind="home", release_contacts=True)
+            yield from motion.to_joints(action.home_q, kind="home", allowance=FINGERS, release_contacts=True)
         except GraspPipelineError as exc:
             log.warning("return home failed: %s", exc)
             motion.sync()

@@ -49,6 +49,7 @@ def test_a_grasp_runs_every_stage_and_places():
     assert allowances["approach"] is ContactAllowance.FINGERS
     assert allowances["lift"] is ContactAllowance.HELD_OBJECT
     assert allowances["place"] is ContactAllowance.HELD_OBJECT
+    assert allowances["home"] is ContactAllowance.FINGERS  # may brush what lies in the tray
 
 
 def test_the_fingers_are_at_the_grasp_opening_before_the_arm_moves():
