@@ -166,7 +166,7 @@ def recover(action):
     yield from _retreat(action)
     if action.home_q is not None:
         try:
-            yield from motion.to_joints(action.home_q, kind="home", allowance=FINGERS, release_contacts=True)
+            yield from motion.to_joints(action.home_q, kind="home", release_contacts=True)
         except GraspPipelineError as exc:
             log.warning("return home failed: %s", exc)
             motion.sync()
