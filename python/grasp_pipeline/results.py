@@ -41,6 +41,7 @@ class ProbeResult:
     nadir: bool = False
     message: str = ""
     view_angles_deg: dict = field(default_factory=dict)
+    closer_look: str = ""   # why the segment was looked at again from closer above ("": not)
 
 
 @dataclass

@@ -81,7 +81,8 @@ def build_system(spec, settings: Settings, events: EventBus | None = None) -> Sy
         cell = world.work_cell
         motion = MotionClient(world, MotionPlanner(settings.motion), cell.fixtures, events)
         start_q = np.asarray(world.q, float).copy()
-        scanner = ActiveScan(rt, loop, motion, flange_T_camera(world.model), settings.scan)
+        scanner = ActiveScan(rt, loop, motion, flange_T_camera(world.model), settings.scan,
+                             max_width_m=settings.obb.gripper_open - settings.grasp_fit.min_open_margin_m)
         action = GraspAction(rt, loop, motion, settings.grasp, work_cell=cell, home_q=start_q,
                              events=events)
     except BaseException:

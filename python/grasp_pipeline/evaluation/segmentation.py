@@ -15,7 +15,10 @@ no table-top method can separate from the table.
 :class:`ScanSegmentationRecorder` scores the frames of the active scan: on each probe's
 arrival it turns the camera's per-pixel labels on for one frame and scores every object in
 view; each object keeps the score from the probe frame whose camera stood horizontally
-nearest to it (its own probe, usually). Objects seen in no probe frame count as missed.
+nearest to it (its own probe, usually). A closer look's frame (the scan looks again from
+nearer above an ambiguous segment, and that view decides) replaces the score of every object
+it sees about as centrally as the object's best frame so far (camera offset within
+:data:`CLOSER_LOOK_OFFSET_M` of it). Objects seen in no probe frame count as missed.
 """
 
 from __future__ import annotations
@@ -37,6 +40,9 @@ MIN_COVERAGE = 0.80
 PART_FRACTION = 0.10
 #: Objects with fewer visible points in a frame are not scored in it.
 MIN_VISIBLE_POINTS = 30
+#: A closer look's frame replaces an object's score when its camera stood at most this much
+#: [m] farther (horizontally) from the object than in the object's best frame so far.
+CLOSER_LOOK_OFFSET_M = 0.02
 
 
 @dataclass
@@ -113,6 +119,7 @@ class ScanSegmentationRecorder:
         self.band_m = float(band_m)
         self.active = False      # between the rough view and the end of the scan
         self.armed = False       # a probe arrived: score the next labelled frame
+        self.closer = False      # ... and it was a closer look's
         self.frame = None
         self.best: dict[str, ObjectSegmentation] = {}
 
@@ -128,8 +135,8 @@ class ScanSegmentationRecorder:
         elif ev.name == "scan_done":
             self.active = self.armed = False
             enable_frame_labels(self.world, False)
-        elif ev.name == "probe_arrived" and self.active:
-            self.armed = True
+        elif ev.name in ("probe_arrived", "closer_look_arrived") and self.active:
+            self.armed, self.closer = True, ev.name == "closer_look_arrived"
             enable_frame_labels(self.world, True)
 
     def on_frame(self, ev: FrameEvent) -> None:
@@ -160,5 +167,6 @@ class ScanSegmentationRecorder:
         for s in score_frame(gt, np.asarray(result.labels), above, names):
             s.camera_offset_m = round(float(np.linalg.norm(truths[s.object][:2] - cam)), 4)
             old = self.best.get(s.object)
-            if old is None or s.camera_offset_m < old.camera_offset_m:
+            slack = CLOSER_LOOK_OFFSET_M if self.closer else 0.0
+            if old is None or s.camera_offset_m < old.camera_offset_m + slack:
                 self.best[s.object] = s

@@ -15,6 +15,11 @@ def _positive(obj, *names: str, allow_zero: bool = False) -> None:
                               f"{'non-negative' if allow_zero else 'positive'} number")
 
 
+#: What makes a segment ambiguous (:mod:`.ambiguity`): a footprint wider than the gripper in
+#: every direction; a non-convex outline.
+CLOSER_LOOK_RULES = ("wide", "non_convex")
+
+
 @dataclass(frozen=True)
 class ScanConfig:
     """SPEC 6 active scan and perception liveness."""
@@ -30,8 +35,22 @@ class ScanConfig:
     rough_view_s: float = 0.5
     settle_view_s: float = 0.3
     scan_timeout_s: float = 120.0
+    closer_look: bool = True
+    closer_look_rules: tuple[str, ...] = ("wide",)
+    closer_look_standoff_m: float = 0.25
+    closer_look_min_solidity: float = 0.80
+    closer_look_cell_m: float = 0.004
+    closer_look_min_points: int = 30
 
     def validate(self) -> None:
+        _positive(self, "closer_look_standoff_m", "closer_look_cell_m", "closer_look_min_points")
+        unknown = sorted(set(self.closer_look_rules) - set(CLOSER_LOOK_RULES))
+        if unknown:
+            raise ConfigError(f"ScanConfig.closer_look_rules: unknown rule(s) {unknown}; "
+                              f"choose from {list(CLOSER_LOOK_RULES)}")
+        if not 0.0 < self.closer_look_min_solidity <= 1.0:
+            raise ConfigError(f"ScanConfig.closer_look_min_solidity = {self.closer_look_min_solidity}: "
+                              "expected a fraction in (0, 1]")
         _positive(self, "dwell_timeout_s", "stale_timeout_s", "return_settle_tol_rad",
                   "select_max_distance_m",
                   "return_settle_timeout_s", "rough_view_s", "scan_timeout_s")
@@ -115,6 +134,7 @@ class GraspFitConfig:
     support_ring_m: float = 0.015
     see_through_fraction: float = 0.5
     footprint_cell_m: float = 0.005
+    box_sample_step_m: float = 0.0025
     line_step_m: float = 0.006
     min_material_points: int = 4
     blocked_points: int = 2
@@ -129,7 +149,7 @@ class GraspFitConfig:
     level_gap_m: float = 0.01
 
     def validate(self) -> None:
-        _positive(self, "cloud_voxel_m", "support_gap_m", "footprint_cell_m", "line_step_m",
+        _positive(self, "cloud_voxel_m", "support_gap_m", "footprint_cell_m", "box_sample_step_m", "line_step_m",
                   "min_material_points", "max_candidates")
         _positive(self, "support_ring_m", "blocked_points", "column_tolerance_m",
                   "clearance_enough_m", "min_pad_overlap_m", allow_zero=True)

@@ -22,9 +22,10 @@ above the table):
   at most the gripper's opening: a 68 mm mug is grasped with 6 mm to spare on each side);
   at each end the material within ``contact_depth_m`` of it must span at least
   ``min_contact_fraction`` of the pad's width (an L's arm end under a pad's corner is no grip);
-* **the planner's view**: the planner models the neighbours as boxes (grown by its collision
-  margin) and the hand as spheres; the hand's spheres, coming straight down to the grasp,
-  must stay clear of the neighbours' boxes — else the contact is raised (while the pads still
+* **the planner's view**: the planner models the neighbours as boxes, kept its collision
+  margin away in 3-D (above their tops too), and the hand as spheres; the hand's spheres,
+  coming straight down to the grasp, must stay that clear of the neighbours' boxes (sampled
+  top faces, each sample also by its sampling slack) — else the contact is raised (while the pads still
   overlap the object) or the line is dropped, so no candidate goes to planning that the
   planner must refuse;
 * **free descent**: each finger's column (``finger_thickness`` × ``finger_width``, at
@@ -300,18 +301,23 @@ def footprint_centroid(points: np.ndarray, cell_m: float) -> np.ndarray:
 
 
 def box_samples(boxes, plane_n: np.ndarray, plane_c: float, margin_m: float, step_m: float) -> np.ndarray:
-    """(N, 3) points on the top faces of upright ``boxes`` (``OrientedBox``), their footprints
-    grown by ``margin_m``: the planner's model of the neighbours, as points (each column from
-    the table up to the box top is blocked; the top face stands for it)."""
+    """(N, 4) points on the top faces of upright ``boxes`` (``OrientedBox``), their footprints
+    grown by ``margin_m``, and each sample's slack [m]: the planner's model of the neighbours,
+    as points (each column from the table up to the box top is blocked; the top face stands
+    for it). Samples lie at most ``step_m`` apart with the face's edges included; a point of
+    the face lies within the slack (half a sample cell's diagonal) of a sample, so a hand
+    sphere kept that much farther from every sample stays clear of the face."""
     out = []
     for b in boxes:
         R, e, c = np.asarray(b.R, float), np.asarray(b.extents, float), np.asarray(b.center, float)
-        u = np.arange(-0.5 * e[0] - margin_m, 0.5 * e[0] + margin_m + 1e-9, step_m)
-        v = np.arange(-0.5 * e[1] - margin_m, 0.5 * e[1] + margin_m + 1e-9, step_m)
-        U, V = np.meshgrid(u, v)
+        hu, hv = 0.5 * e[0] + margin_m, 0.5 * e[1] + margin_m
+        nu, nv = (int(np.ceil(2.0 * h / step_m)) + 1 for h in (hu, hv))
+        U, V = np.meshgrid(np.linspace(-hu, hu, nu), np.linspace(-hv, hv, nv))
+        slack = 0.5 * float(np.hypot(2.0 * hu / (nu - 1), 2.0 * hv / (nv - 1)))
         top = c + 0.5 * e[2] * R[:, 2]
-        out.append(top + np.outer(U.ravel(), R[:, 0]) + np.outer(V.ravel(), R[:, 1]))
-    return np.vstack(out) if out else np.zeros((0, 3))
+        pts = top + np.outer(U.ravel(), R[:, 0]) + np.outer(V.ravel(), R[:, 1])
+        out.append(np.c_[pts, np.full(len(pts), slack)])
+    return np.vstack(out) if out else np.zeros((0, 4))
 
 
 def _environment_obstacles(lc: SceneCloud, h_all: np.ndarray, box, cell_m: float,
@@ -336,8 +342,8 @@ def fit_lines(track, cloud: SceneCloud, hand: HandClearances, grasp_cfg: GraspCo
               spheres: Optional[HandSpheres] = None,
               env_grid: tuple[float, float, float] = (0.0, 0.005, 0.0)) -> list[FittedLine]:
     """Every checked line of ``track`` (ok and not), in no particular order.
-    ``neighbour_boxes``: the planner's boxes of the other objects (sampled, footprints grown
-    by ``box_margin_m``), kept clear of the planner's hand ``spheres``; so are the environment
+    ``neighbour_boxes``: the planner's boxes of the other objects (top faces sampled), kept
+    ``box_margin_m`` clear of the planner's hand ``spheres``, as the planner keeps them; so are the environment
     points above the table band outside the target's box (unsegmented parts of a pile, which
     the planner's occupancy map holds): ``env_grid`` = (margin [m], grid cell [m], cleared
     padding [m]), the planner's margin, its rounding of the points near the target and how
@@ -351,10 +357,12 @@ def fit_lines(track, cloud: SceneCloud, hand: HandClearances, grasp_cfg: GraspCo
         return []
     h_all = lc.heights_m()
     obst_pts = lc.points[~own_mask & ((lc.owner != ENVIRONMENT) | (h_all > lc.band_m))]
-    box_pts = box_samples(neighbour_boxes, lc.plane_n, lc.plane_c, box_margin_m, cfg.footprint_cell_m)
+    # the planner keeps the hand spheres box_margin_m from the boxes in 3-D (also above
+    # their tops): the true top faces, each sample kept that much (and its slack) farther
+    box_pts = box_samples(neighbour_boxes, lc.plane_n, lc.plane_c, 0.0, cfg.box_sample_step_m)
+    box_pts[:, 3] += box_margin_m
     env_pts = _environment_obstacles(lc, h_all, e, env_grid[1], env_grid[2])
-    box_pts = np.vstack([np.c_[box_pts, np.zeros(len(box_pts))],
-                         np.c_[env_pts, np.full(len(env_pts), env_grid[0])]])
+    box_pts = np.vstack([box_pts, np.c_[env_pts, np.full(len(env_pts), env_grid[0])]])
     centroid = footprint_centroid(lc.points[own_mask], cfg.footprint_cell_m)
     open_max = max_width_m + grasp_cfg.open_margin_m  # the gripper's opening
     lim = LineLimits(hand, grasp_cfg.open_margin_m, min_width_m, open_max - cfg.min_open_margin_m,

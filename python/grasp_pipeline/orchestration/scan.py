@@ -10,7 +10,11 @@ the camera above object i (SPEC 3 pose, planned on the perceived scene), waits f
 estimate produced after arrival, and logs every track's view angle. Camera frames are
 requested for the dwell only (frames on demand): the probe motions and RETURN render
 nothing. A planning or motion
-failure stops probing (the rest are skipped). RETURN to the start joints runs whenever
+failure stops probing (the rest are skipped). Closer look (ours, issue 12): after a probe's
+NADIR estimate, a segment that may be several objects (:func:`~.ambiguity.ambiguity`: wider
+than the gripper in every direction, or a non-convex outline) is looked at again from
+``closer_look_standoff_m`` above its top for ``dwell_frames`` frames; that view's segmentation
+decides (a failed closer move is logged and the scan goes on). RETURN to the start joints runs whenever
 ``return_to_start`` is set and start joints were recorded, also after a failure. At the end:
 stage IDLE, i/N = 0, the liveness flags reset. :attr:`status` is readable at any time.
 """
@@ -27,6 +31,7 @@ import numpy as np
 from .. import _core
 from ..exceptions import GraspPipelineError
 from ..results import ProbeResult, ScanOutcome
+from .ambiguity import ambiguity
 from .config import ScanConfig
 from .events import StageEvent
 from .runtime import Runtime, Task
@@ -52,8 +57,11 @@ class ActiveScan:
     """The scan state machine; one instance per run."""
 
     def __init__(self, runtime: Runtime, loop, motion, camera_in_flange: Optional[np.ndarray],
-                 config: ScanConfig | None = None) -> None:
+                 config: ScanConfig | None = None, max_width_m: Optional[float] = None) -> None:
+        """``max_width_m``: the widest object the gripper takes (its opening less the fitted
+        grasps' least spare; the closer look's "wide" rule; None: only the outline rule)."""
         self.rt = runtime
+        self.max_width_m = float("inf") if max_width_m is None else float(max_width_m)
         self.loop = loop
         self.motion = motion
         self.camera_in_flange = camera_in_flange
@@ -148,6 +156,7 @@ class ActiveScan:
                     self.motion.sync()
                     break
                 yield from self._dwell(i, centre, probe)
+                yield from self._closer_look(i, probe)
             else:
                 out.completed = True
         finally:
@@ -192,6 +201,67 @@ class ActiveScan:
             probe.view_angles_deg = {int(t): float(v.angle_deg) for t, v in zip(raw.tids, raw.views)}
             log.info("probe %d/%d: %s", i, self.total, ", ".join(
                 f"#{t} {v.quality.name.lower()} ({v.angle_deg:.1f} deg)" for t, v in zip(raw.tids, raw.views)))
+
+    def _closer_look(self, i: int, probe: ProbeResult):
+        """Task: look again from closer above probe ``i``'s segment when it is ambiguous."""
+        cfg = self.config
+        track = next((t for t in self.loop.tracks() if t.tid == probe.tid), None)
+        if not cfg.closer_look or not probe.nadir or track is None:
+            return
+        cloud = self.loop.scene_cloud()
+        reason = ambiguity(track, None if cloud is None else cloud.of(track.tid), self.max_width_m, cfg)
+        target = None if reason is None else self._closer_target(track)
+        if target is None:
+            return
+        probe.closer_look = reason
+        log.info("probe %d: #%d is ambiguous (%s): looking from closer above", i, track.tid, reason)
+        try:
+            self.motion.set_scene(snapshot(self.loop))
+            yield from self.motion.to_pose(target.matrix(), frame="flange", kind="scan_closer_look")
+        except GraspPipelineError as exc:
+            probe.closer_look += f"; could not move closer: {exc}"
+            log.warning("probe %d: closer look failed to move: %s", i, exc)
+            self.motion.sync()
+            return
+        arrival_s = float(self.rt.world.time_s)
+        with self.rt.looking():
+            yield from self._closer_dwell(i, track)
+        probe.closer_look += f"; then {self._segments_near(track, arrival_s)} segment(s) there"
+        log.info("probe %d: closer look at #%d: %s", i, track.tid, probe.closer_look)
+
+    def _closer_target(self, track) -> Optional["_core.Pose"]:
+        """The flange pose with the camera ``closer_look_standoff_m`` above the top of
+        ``track``'s box (None: that is not lower than the probe's view)."""
+        e = track.smoothed
+        centre = np.asarray(e.center, dtype=float)
+        ready = np.array(self.loop.ready_camera_pose, dtype=float)
+        camera_z = centre[2] + 0.5 * float(e.extents[2]) + self.config.closer_look_standoff_m
+        if camera_z >= ready[2, 3]:
+            return None
+        ready[2, 3] = camera_z
+        return _core.camera_above_flange_target(centre, self.loop.plane, _core.Pose.from_matrix(ready),
+                                                _core.Pose.from_matrix(self.camera_in_flange))
+
+    def _closer_dwell(self, i: int, track):
+        world, cfg = self.rt.world, self.config
+        c = np.asarray(track.smoothed.center, dtype=float)
+        self.rt.events.publish(StageEvent(float(world.time_s), "closer_look_arrived",
+                                          f"{i} {c[0]:.6f} {c[1]:.6f}", perception=self.loop))
+        frames0, t_end = self.loop.frames, world.time_s + cfg.dwell_timeout_s
+        while self.loop.frames - frames0 < cfg.dwell_frames and world.time_s < t_end:
+            yield
+
+    def _segments_near(self, track, since_s: float) -> int:
+        """How many tracks seen since ``since_s`` have their centre inside ``track``'s former
+        footprint."""
+        e = track.smoothed
+        R, c = np.asarray(e.R_box, dtype=float), np.asarray(e.center, dtype=float)
+        half = 0.5 * np.asarray(e.extents, dtype=float)
+        n = 0
+        for t in self.loop.tracks():
+            local = R.T @ (np.asarray(t.smoothed.center, dtype=float) - c)
+            n += bool(t.last_seen_s >= since_s and abs(local[0]) <= half[0] and abs(local[1]) <= half[1])
+        return n
 
     def _return(self, start_q: np.ndarray, out: ScanOutcome):
         if not self.config.return_to_start:

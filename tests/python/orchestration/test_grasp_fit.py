@@ -1,6 +1,7 @@
 """Grasps fitted to the points (orchestration/grasp_fit.py) on small synthetic clouds."""
 
 import numpy as np
+import pytest
 
 from grasp_pipeline.motion.occupancy import OrientedBox
 from grasp_pipeline.orchestration.config import GraspConfig, GraspFitConfig
@@ -144,7 +145,21 @@ def test_box_samples_cover_the_grown_top_face():
     b = OrientedBox(np.array([0.5, 0.0, 0.02]), np.eye(3), np.array([0.04, 0.02, 0.04]))
     s = box_samples([b], UP, 0.0, 0.005, 0.003)
     assert np.allclose(s[:, 2], 0.04)
-    assert s[:, 0].min() <= 0.475 + 1e-9 and s[:, 0].max() >= 0.522
+    # the grown face's edges are sampled exactly; samples at most 3 mm apart
+    assert s[:, 0].min() == pytest.approx(0.475) and s[:, 0].max() == pytest.approx(0.525)
+    assert s[:, 1].min() == pytest.approx(-0.015) and s[:, 1].max() == pytest.approx(0.015)
+    xs = np.unique(np.round(s[:, 0], 9))
+    assert np.max(np.diff(xs)) <= 0.003 + 1e-12
+
+
+def test_every_point_of_a_sampled_face_lies_within_the_slack_of_a_sample():
+    b = OrientedBox(np.array([0.5, 0.0, 0.02]), np.eye(3), np.array([0.047, 0.031, 0.04]))
+    s = box_samples([b], UP, 0.0, 0.004, 0.0025)
+    rng = np.random.default_rng(3)
+    probe = np.column_stack([rng.uniform(0.4725, 0.5275, 2000), rng.uniform(-0.0195, 0.0195, 2000)])
+    d = np.min(np.hypot(probe[:, None, 0] - s[None, :, 0], probe[:, None, 1] - s[None, :, 1]), axis=1)
+    assert np.all(d <= s[:, 3].max() + 1e-12)
+    assert s[0, 3] <= 0.5 * np.hypot(0.0025, 0.0025) + 1e-12
 
 
 def test_check_line_needs_material_on_both_pads_across_their_width():
@@ -212,3 +227,26 @@ def test_smeared_edges_of_an_oblique_view_are_clipped_to_the_measured_box():
     track = track_of(0, cube)  # the box measured from above: 40 mm
     _, ranked = _fit(track, scene((0, np.vstack([cube, smear])), (ENV, table())))
     assert ranked and all(abs(ln.width_m - 0.04) < 0.0025 for ln in ranked if ln.axis == 0)
+
+
+@pytest.mark.parametrize("gap_m", [0.0, 0.004, 0.012, 0.016, 0.019])
+def test_a_fitted_descent_clears_a_neighbours_box_as_the_planner_measures_it(gap_m):
+    """A hand sphere coming straight down beside a neighbour's box must stay the planner's
+    margin from the box in 3-D (above its top edge too), as ``OrientedBox.distance_m`` says."""
+    from grasp_pipeline.orchestration.grasp_fit import HandSpheres, _sphere_need
+    r_m, margin_m = 0.012, 0.005
+    box = OrientedBox(np.array([0.0, 0.0, 0.03]), np.eye(3), np.array([0.05, 0.04, 0.06]))
+    s = box_samples([box], UP, 0.0, 0.0, 0.0025)
+    s[:, 3] += margin_m
+    one = HandSpheres(np.zeros((1, 3)), np.zeros((1, 3)), np.array([r_m]))
+    x_m = 0.025 + gap_m  # the sphere's line, gap_m beside the box's +x face
+    need = _sphere_need(s, 0.0, x_m, 0.0, one)
+
+    def clear(z):
+        return box.distance_m(np.array([[x_m, 0.0, z]]))[0] - (r_m + margin_m)
+
+    if gap_m >= r_m + margin_m:  # far enough beside it: down to the table
+        assert need == -np.inf and clear(0.0) >= 0.0
+        return
+    assert clear(need) >= -1e-9  # where the fit lets the hand down, the planner agrees
+    assert clear(need) <= s[0, 3] - margin_m + 1e-9  # ... and it keeps no more than the sampling slack
