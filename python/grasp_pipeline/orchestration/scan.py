@@ -30,12 +30,14 @@ import numpy as np
 
 from .. import _core
 from ..exceptions import GraspPipelineError
+from ..motion.work_cell import footprint_distance_m
 from ..results import ProbeResult, ScanOutcome
 from .ambiguity import ambiguity
 from .config import ScanConfig
 from .events import StageEvent
 from .runtime import Runtime, Task
 from .scene_model import snapshot
+from .tracks import track_box
 
 log = logging.getLogger("grasp_pipeline.scan")
 
@@ -254,14 +256,9 @@ class ActiveScan:
     def _segments_near(self, track, since_s: float) -> int:
         """How many tracks seen since ``since_s`` have their centre inside ``track``'s former
         footprint."""
-        e = track.smoothed
-        R, c = np.asarray(e.R_box, dtype=float), np.asarray(e.center, dtype=float)
-        half = 0.5 * np.asarray(e.extents, dtype=float)
-        n = 0
-        for t in self.loop.tracks():
-            local = R.T @ (np.asarray(t.smoothed.center, dtype=float) - c)
-            n += bool(t.last_seen_s >= since_s and abs(local[0]) <= half[0] and abs(local[1]) <= half[1])
-        return n
+        box = track_box(track)
+        return sum(t.last_seen_s >= since_s and footprint_distance_m(box, t.smoothed.center) <= 0.0
+                   for t in self.loop.tracks())
 
     def _return(self, start_q: np.ndarray, out: ScanOutcome):
         if not self.config.return_to_start:
