@@ -67,27 +67,37 @@ def look_again(ctx: PickContext) -> set:
     return {int(t.tid) for t in ctx.loop.tracks()}
 
 
-def has_fitted_grasp(ctx: PickContext, xy) -> bool:
-    """True when the grasp source fits a grasp to the points of the object at ``xy``
-    (:mod:`.grasp_fit`); also True for a source that fits none (nothing to judge by)."""
-    fitted = getattr(ctx.source, "fitted", None)
-    if fitted is None:
-        return True
+#: What a grasp source offers for an object (:func:`grasp_offer`).
+OFFER_NONE, OFFER_OTHER, OFFER_FITTED = 0, 1, 2
+
+
+def grasp_offer(ctx: PickContext, xy) -> int:
+    """What the grasp source offers for the object at ``xy``: ``OFFER_FITTED`` when it fits a
+    grasp to the object's points (:mod:`.grasp_fit`), ``OFFER_OTHER`` when it proposes others
+    only (the box grasps whose fingers' descent is free; any grasp of a source that fits none),
+    ``OFFER_NONE`` when it proposes nothing (that object is not attempted in this look)."""
     track, _ = nearest_track(ctx.loop.tracks(), xy)
-    return track is not None and bool(fitted(grasp_request(ctx, xy, track)))
+    if track is None:
+        return OFFER_NONE
+    request = grasp_request(ctx, xy, track)
+    fitted = getattr(ctx.source, "fitted", None)
+    if fitted is not None and fitted(request):
+        return OFFER_FITTED
+    return OFFER_OTHER if ctx.source.propose(request) else OFFER_NONE
 
 
 def choose_order(ctx: PickContext, targets: list, failed_anchors: list, config: DeclutterConfig) -> list:
     """The round's target order: by accessibility (or nearest first), objects without a grasp
     fitted to their points after those with one (another object first: picking it may free
-    them), failed places last."""
+    them), objects the source proposes no grasp for left out, failed places last."""
     if config.order == "accessibility":
         s = ctx.settings
         targets = rank_by_accessibility(targets, ctx.loop.tracks(), hand_clearances(),
                                         s.grasp.open_margin_m, s.obb.gripper_open - s.grasp.open_margin_m,
                                         config.free_space_enough_m)
-    fits = [has_fitted_grasp(ctx, t) for t in targets]
-    targets = [t for t, f in zip(targets, fits) if f] + [t for t, f in zip(targets, fits) if not f]
+    offers = [grasp_offer(ctx, t) for t in targets]
+    targets = [t for t, f in zip(targets, offers) if f == OFFER_FITTED] + \
+        [t for t, f in zip(targets, offers) if f == OFFER_OTHER]
     return order_targets(targets, failed_anchors, config.failed_anchor_radius_m)
 
 

@@ -336,6 +336,47 @@ def _environment_obstacles(lc: SceneCloud, h_all: np.ndarray, box, cell_m: float
     return c + (cells + 0.5) * cell_m
 
 
+def _points_near(track, cloud: SceneCloud):
+    """The scene's points within the hand's reach of ``track``: (cloud, mask of the track's own
+    points, heights [m], points that can block a finger — other objects, untracked clusters,
+    environment above the table band)."""
+    e = track.smoothed
+    reach = 0.5 * float(np.hypot(*np.asarray(e.extents)[:2])) + _HAND_REACH_M
+    lc = cloud.near(np.asarray(e.center)[:2], reach)
+    own_mask = lc.owner == int(track.tid)
+    h_all = lc.heights_m()
+    return lc, own_mask, h_all, lc.points[~own_mask & ((lc.owner != ENVIRONMENT) | (h_all > lc.band_m))]
+
+
+def _limits(track, hand: HandClearances, grasp_cfg: GraspConfig, cfg: GraspFitConfig,
+            min_width_m: float, max_width_m: float) -> LineLimits:
+    open_max = max_width_m + grasp_cfg.open_margin_m  # the gripper's opening
+    return LineLimits(hand, grasp_cfg.open_margin_m, min_width_m, open_max - cfg.min_open_margin_m,
+                      float(track.smoothed.height_m), grasp_cfg.palm_clearance_m, cfg, open_max)
+
+
+def box_grasp_blocked(track, cloud: SceneCloud, grasp, hand: HandClearances, grasp_cfg: GraspConfig,
+                      cfg: GraspFitConfig, max_width_m: float) -> str:
+    """Why the fingers of SPEC 3's box ``grasp`` (``_core.BestGrasp``) of ``track`` cannot come
+    down ('' when they can): the free-descent check of the fitted lines (module doc) for the
+    box grasp's closing line, pads centred on its contact point, opened to its width + margin.
+    A finger column holding more than ``blocked_points`` points of anything but the object's
+    material between the pads would push into a neighbour, the pile or the object itself."""
+    lc, own_mask, _, obst_pts = _points_near(track, cloud)
+    n = lc.plane_n
+    c = np.asarray(grasp.R, float)[:, 2]
+    c = c - float(c @ n) * n
+    p = np.asarray(grasp.position, float)
+    contact_h = float(lc.heights_m(p[None, :])[0])
+    fr = _Frame(p - contact_h * n, c / np.linalg.norm(c), np.cross(n, c / np.linalg.norm(c)), n)
+    lim = _limits(track, hand, grasp_cfg, cfg, 0.0, max_width_m)
+    own = _local(fr, lc.points[own_mask], lc)
+    others = np.vstack([_local(fr, obst_pts, lc),
+                        own[np.abs(own[:, 1]) > 0.5 * hand.finger_width_m + cfg.column_tolerance_m]])
+    blocked, _ = _fingers(others, 0.0, 0.0, float(grasp.width_m), contact_h - hand.pad_below_tcp_m, lim)
+    return f"a finger blocked by {blocked} points" if blocked > cfg.blocked_points else ""
+
+
 def fit_lines(track, cloud: SceneCloud, hand: HandClearances, grasp_cfg: GraspConfig,
               cfg: GraspFitConfig, min_width_m: float, max_width_m: float,
               neighbour_boxes: tuple = (), box_margin_m: float = 0.0,
@@ -348,15 +389,10 @@ def fit_lines(track, cloud: SceneCloud, hand: HandClearances, grasp_cfg: GraspCo
     the planner's occupancy map holds): ``env_grid`` = (margin [m], grid cell [m], cleared
     padding [m]), the planner's margin, its rounding of the points near the target and how
     far around the target's box it ignores them."""
-    tid = int(track.tid)
     e = track.smoothed
-    reach = 0.5 * float(np.hypot(*np.asarray(e.extents)[:2])) + _HAND_REACH_M
-    lc = cloud.near(np.asarray(e.center)[:2], reach)
-    own_mask = lc.owner == tid
+    lc, own_mask, h_all, obst_pts = _points_near(track, cloud)
     if not np.any(own_mask):
         return []
-    h_all = lc.heights_m()
-    obst_pts = lc.points[~own_mask & ((lc.owner != ENVIRONMENT) | (h_all > lc.band_m))]
     # the planner keeps the hand spheres box_margin_m from the boxes in 3-D (also above
     # their tops): the true top faces, each sample kept that much (and its slack) farther
     box_pts = box_samples(neighbour_boxes, lc.plane_n, lc.plane_c, 0.0, cfg.box_sample_step_m)
@@ -364,9 +400,7 @@ def fit_lines(track, cloud: SceneCloud, hand: HandClearances, grasp_cfg: GraspCo
     env_pts = _environment_obstacles(lc, h_all, e, env_grid[1], env_grid[2])
     box_pts = np.vstack([box_pts, np.c_[env_pts, np.full(len(env_pts), env_grid[0])]])
     centroid = footprint_centroid(lc.points[own_mask], cfg.footprint_cell_m)
-    open_max = max_width_m + grasp_cfg.open_margin_m  # the gripper's opening
-    lim = LineLimits(hand, grasp_cfg.open_margin_m, min_width_m, open_max - cfg.min_open_margin_m,
-                     float(e.height_m), grasp_cfg.palm_clearance_m, cfg, open_max)
+    lim = _limits(track, hand, grasp_cfg, cfg, min_width_m, max_width_m)
     out = []
     for k, fr in enumerate(_frames(track, lc)):
         lim = replace(lim, box_half_c=0.5 * float(np.asarray(e.extents)[k]))

@@ -11,7 +11,8 @@ produced them, so a learned grasp detector replaces the geometric one by impleme
   fingers' descent free, the opening fits; ranked by clearance), ours. Then, as the last
   resort: SPEC 3's top-down grasp from the target's box (the grasp the selection publishes
   every frame), then closing across the other side when it fits; both at a contact height
-  that fits the hand (:func:`contact_height_m`, ours).
+  that fits the hand (:func:`contact_height_m`, ours), and offered only when their fingers'
+  descent is free on the points (:func:`.grasp_fit.box_grasp_blocked`).
 * :class:`FixedGraspSource` — a fixed list of poses (known grasps, a replay, a test).
 """
 
@@ -29,7 +30,7 @@ from ..motion.perceived_scene import PerceivedScene
 from ..motion.robot_spheres import hand_spheres_in_tcp
 from ..robot.description import GRIPPER_MAX_WIDTH_M, HandClearances, hand_clearances, load_robot_model
 from .config import GraspConfig, GraspFitConfig
-from .grasp_fit import HandSpheres, fit_lines, rank_lines
+from .grasp_fit import HandSpheres, box_grasp_blocked, fit_lines, rank_lines
 from .scene_cloud import SceneCloud
 from .selection import perpendicular_grasp
 
@@ -128,8 +129,9 @@ class GeometricGraspSource:
         return [b for b, t in zip(scene.boxes, scene.tids) if t != tid]
 
     def propose(self, request: GraspRequest) -> list:
-        """Fitted grasps first, then SPEC 3's box grasps (planning tries them in order: the
-        box grasps are the last resort when no fitted one can be planned)."""
+        """Fitted grasps first, then SPEC 3's box grasps whose fingers' descent is free on the
+        points (planning tries them in order: the box grasps are the last resort when no
+        fitted one can be planned)."""
         return self.fitted(request) + self.from_box(request)
 
     def fitted(self, request: GraspRequest) -> list:
@@ -165,6 +167,22 @@ class GeometricGraspSource:
                 out.append(alt)
             height = float(request.target.smoothed.height_m)
             out = [at_contact_height(g, plane, height, self.hand, self.config) for g in out]
+        return self._free(request, out)
+
+    def _free(self, request: GraspRequest, grasps: list) -> list:
+        """The box grasps whose fingers can come down on the scene's points (all of them
+        without points): a box grasp pushing a finger into a neighbour is not offered — the
+        round picks another object first, as it does when no fitted grasp exists."""
+        if request.cloud is None or request.target is None or len(request.cloud) == 0:
+            return grasps
+        out = []
+        for g in grasps:
+            why = box_grasp_blocked(request.target, request.cloud, g, self.hand, self.config,
+                                    self.fit, request.max_width_m)
+            if why:
+                log.info("box grasp of #%d not offered: %s", request.target.tid, why)
+            else:
+                out.append(g)
         return out
 
 

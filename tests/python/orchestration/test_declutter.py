@@ -35,7 +35,8 @@ def fake(monkeypatch):
     loop = SimpleNamespace(tracks=lambda: [_track(i, *xy) for i, xy in enumerate(state["objects"])],
                            judge=spec_judge)
     ctx = SimpleNamespace(loop=loop, settings=SimpleNamespace(grasp=SimpleNamespace(target_fixture_margin_m=0.03)),
-                          source=SimpleNamespace(name="fake"))  # fits no points: every target counts
+                          source=SimpleNamespace(name="fake", propose=lambda request: ["a grasp"]))
+    monkeypatch.setattr(declutter, "grasp_request", lambda _ctx, xy, track: (xy, track.tid))
 
     def pick(_ctx, xy):
         ok = state["plan"].pop(0)
@@ -78,7 +79,33 @@ def test_attempt_limit(fake):
 
 
 def test_objects_without_a_fitted_grasp_go_after_the_others(monkeypatch):
-    monkeypatch.setattr(declutter, "has_fitted_grasp", lambda ctx, xy: xy != (0.40, 0.0))
+    offers = {(0.40, 0.0): declutter.OFFER_OTHER, (0.45, 0.0): declutter.OFFER_FITTED,
+              (0.50, 0.1): declutter.OFFER_FITTED, (0.55, 0.0): declutter.OFFER_NONE}
+    monkeypatch.setattr(declutter, "grasp_offer", lambda ctx, xy: offers[xy])
     cfg = DeclutterConfig(order="nearest")
-    out = declutter.choose_order(None, [(0.40, 0.0), (0.45, 0.0), (0.50, 0.1)], [(0.50, 0.1)], cfg)
-    assert out == [(0.45, 0.0), (0.40, 0.0), (0.50, 0.1)]  # no fit: after; failed place: last
+    out = declutter.choose_order(None, list(offers), [(0.50, 0.1)], cfg)
+    # no fit: after; nothing proposed: left out; failed place: last
+    assert out == [(0.45, 0.0), (0.40, 0.0), (0.50, 0.1)]
+
+
+@pytest.mark.parametrize("fitted, proposed, expected", [
+    (["g"], ["g", "box"], declutter.OFFER_FITTED),
+    ([], ["box"], declutter.OFFER_OTHER),
+    ([], [], declutter.OFFER_NONE),
+    (None, ["learned"], declutter.OFFER_OTHER),  # a source that fits nothing: its proposals count
+    (None, [], declutter.OFFER_NONE),
+])
+def test_grasp_offer_says_what_the_source_offers(fake, monkeypatch, fitted, proposed, expected):
+    ctx, _ = fake
+    ctx.source = SimpleNamespace(name="s", propose=lambda request: proposed)
+    if fitted is not None:
+        ctx.source.fitted = lambda request: fitted
+    assert declutter.grasp_offer(ctx, (0.50, 0.0)) == expected
+
+
+def test_a_round_ends_when_the_source_proposes_nothing(fake):
+    ctx, state = fake
+    ctx.source = SimpleNamespace(name="s", propose=lambda request: [])
+    out = declutter.clear_table(ctx, _Cell(), {0, 1, 2}, DeclutterConfig(order="nearest"))
+    assert out.attempts == [] and out.end_reason == declutter.END_NO_TARGET
+    assert len(state["objects"]) == 3

@@ -1,11 +1,15 @@
 """Grasps fitted to the points (orchestration/grasp_fit.py) on small synthetic clouds."""
 
+from dataclasses import replace
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 
 from grasp_pipeline.motion.occupancy import OrientedBox
 from grasp_pipeline.orchestration.config import GraspConfig, GraspFitConfig
-from grasp_pipeline.orchestration.grasp_fit import box_samples, check_line, fit_lines, rank_lines, LineLimits
+from grasp_pipeline.orchestration.grasp_fit import (FittedLine, box_grasp_blocked, box_samples, check_line,
+                                                    fit_lines, rank_lines, LineLimits)
 from grasp_pipeline.orchestration.grasp_source import GeometricGraspSource, GraspRequest, planner_hand_spheres
 from grasp_pipeline.motion.perceived_scene import PerceivedScene
 from grasp_pipeline.robot.description import HandClearances
@@ -250,3 +254,33 @@ def test_a_fitted_descent_clears_a_neighbours_box_as_the_planner_measures_it(gap
         return
     assert clear(need) >= -1e-9  # where the fit lets the hand down, the planner agrees
     assert clear(need) <= s[0, 3] - margin_m + 1e-9  # ... and it keeps no more than the sampling slack
+
+
+def _box_grasp(closing, centre, width_m):
+    """A top-down grasp closing along ``closing`` at ``centre`` (the BestGrasp convention)."""
+    return FittedLine(True, "", 0, 0.0, np.asarray(centre, float), np.asarray(closing, float), width_m).grasp(UP)
+
+
+@pytest.mark.parametrize("closing, blocked", [((1.0, 0.0, 0.0), True), ((0.0, 1.0, 0.0), False)])
+def test_a_box_grasp_whose_finger_would_enter_a_neighbour_is_not_offered(closing, blocked):
+    cube = block(0.50, 0.54, 0.00, 0.04, 0.0, 0.04)
+    walls = [block(0.555, 0.565, -0.03, 0.07, 0.0, 0.05), block(0.475, 0.485, -0.03, 0.07, 0.0, 0.05)]
+    cloud = scene((0, cube), (1, walls[0]), (2, walls[1]), (ENV, table()))
+    g = _box_grasp(closing, (0.52, 0.02, 0.02), 0.04)  # opens to 60 mm: 10 mm into each wall along x
+    why = box_grasp_blocked(track_of(0, cube), cloud, g, HAND, GRASP, CFG, 0.06)
+    assert bool(why) == blocked and (not why or "finger blocked" in why)
+
+
+def test_the_source_offers_a_box_grasp_only_where_its_fingers_come_down_free():
+    cube = block(0.50, 0.54, 0.00, 0.04, 0.0, 0.04)
+    wall = block(0.555, 0.565, -0.03, 0.07, 0.0, 0.05)
+    src = GeometricGraspSource(GRASP, HAND, CFG)
+    plane = SimpleNamespace(n=UP, c=0.0)
+    track = track_of(0, cube)
+    track.smoothed.perp_width_m = 0.04
+    along_x = _box_grasp((1.0, 0.0, 0.0), (0.52, 0.02, 0.02), 0.04)
+    for parts, offered in (([(0, cube), (ENV, table())], 2), ([(0, cube), (1, wall), (ENV, table())], 1)):
+        req = GraspRequest((0.52, 0.02), track, along_x, PerceivedScene(np.zeros((0, 3)), plane=plane), 0.06,
+                           cloud=scene(*parts))
+        assert len(src.from_box(req)) == offered  # the wall takes the x-closing finger's column
+    assert len(src.from_box(replace(req, cloud=None))) == 2  # without points: nothing to judge by
