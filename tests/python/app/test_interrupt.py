@@ -11,6 +11,13 @@ import pytest
 from .test_entry_points import EXE, clean_env
 
 
+def _as_from_a_terminal() -> None:
+    """The child's SIGINT as a foreground process of an interactive shell has it (Ctrl-C
+    interrupts). A runner started in the background by a non-interactive shell passes SIGINT on
+    ignored, and an ignored SIGINT is kept ignored by Python (and by ``nohup``-style launches):
+    without this the test measured the runner, not the product."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
 
 @pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
 def test_a_signal_mid_run_leaves_an_interrupted_report(sig, tmp_path):
@@ -19,7 +26,8 @@ def test_a_signal_mid_run_leaves_an_interrupted_report(sig, tmp_path):
     (out / "report.json").write_text(json.dumps({"status": "complete", "picks": [1, 2, 3]}))
     proc = subprocess.Popen([str(EXE), "run", "--scene", "reference", "--no-video", "--out", "out"],
                             cwd=tmp_path, env=clean_env(None, tmp_path), stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, stdin=subprocess.DEVNULL)
+                            stderr=subprocess.PIPE, text=True, stdin=subprocess.DEVNULL,
+                            preexec_fn=_as_from_a_terminal)
     seen = ""
     t_end = time.monotonic() + 600
     while "grasp stage PRE_GRASP" not in seen and time.monotonic() < t_end:
@@ -43,7 +51,8 @@ def test_an_interrupted_benchmark_writes_what_it_finished(tmp_path):
                              "--json", "g.json", "--out", "bg", "--no-progress", "--set",
                              "sim.object_count=[1,1]"],
                             cwd=tmp_path, env=clean_env(None, tmp_path), stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, stdin=subprocess.DEVNULL)
+                            stderr=subprocess.PIPE, text=True, stdin=subprocess.DEVNULL,
+                            preexec_fn=_as_from_a_terminal)
     seen, t_end = "", time.monotonic() + 600
     while seen.count("grasp stage PRE_GRASP") < 2 and time.monotonic() < t_end:  # in scene 2
         line = proc.stderr.readline()
