@@ -336,6 +336,19 @@ def _environment_obstacles(lc: SceneCloud, h_all: np.ndarray, box, cell_m: float
     return c + (cells + 0.5) * cell_m
 
 
+def _planner_obstacles(lc: SceneCloud, h_all: np.ndarray, box, neighbour_boxes: tuple,
+                       box_margin_m: float, cfg: GraspFitConfig,
+                       env_grid: tuple[float, float, float]) -> np.ndarray:
+    """(N, 4) world samples of what the planner keeps the hand spheres away from, each with
+    its slack [m]: the neighbours' top faces (kept ``box_margin_m`` farther, in 3-D — also
+    above their tops) and the environment points outside the target's ``box`` (``env_grid``:
+    see :func:`fit_lines`)."""
+    box_pts = box_samples(neighbour_boxes, lc.plane_n, lc.plane_c, 0.0, cfg.box_sample_step_m)
+    box_pts[:, 3] += box_margin_m
+    env_pts = _environment_obstacles(lc, h_all, box, env_grid[1], env_grid[2])
+    return np.vstack([box_pts, np.c_[env_pts, np.full(len(env_pts), env_grid[0])]])
+
+
 def _points_near(track, cloud: SceneCloud):
     """The scene's points within the hand's reach of ``track``: (cloud, mask of the track's own
     points, heights [m], points that can block a finger — other objects, untracked clusters,
@@ -356,13 +369,18 @@ def _limits(track, hand: HandClearances, grasp_cfg: GraspConfig, cfg: GraspFitCo
 
 
 def box_grasp_blocked(track, cloud: SceneCloud, grasp, hand: HandClearances, grasp_cfg: GraspConfig,
-                      cfg: GraspFitConfig, max_width_m: float) -> str:
-    """Why the fingers of SPEC 3's box ``grasp`` (``_core.BestGrasp``) of ``track`` cannot come
-    down ('' when they can): the free-descent check of the fitted lines (module doc) for the
-    box grasp's closing line, pads centred on its contact point, opened to its width + margin.
-    A finger column holding more than ``blocked_points`` points of anything but the object's
-    material between the pads would push into a neighbour, the pile or the object itself."""
-    lc, own_mask, _, obst_pts = _points_near(track, cloud)
+                      cfg: GraspFitConfig, max_width_m: float, neighbour_boxes: tuple = (),
+                      box_margin_m: float = 0.0, spheres: Optional[HandSpheres] = None,
+                      env_grid: tuple[float, float, float] = (0.0, 0.005, 0.0)) -> str:
+    """Why SPEC 3's box ``grasp`` (``_core.BestGrasp``) of ``track`` cannot come down ('' when
+    it can): the checks of the fitted lines (module doc) for the box grasp's closing line, pads
+    centred on its contact point, opened to its width + margin. A finger column holding more
+    than ``blocked_points`` points of anything but the object's material between the pads would
+    push into a neighbour, the pile or the object itself; with the planner's hand ``spheres`` the
+    hand must also stay clear of the neighbours' boxes and the environment points as the planner
+    keeps them (``neighbour_boxes``, ``box_margin_m``, ``env_grid``: see :func:`fit_lines`) —
+    the planner refuses such a grasp at the pre-grasp. Unlike a fitted line it is not raised."""
+    lc, own_mask, h_all, obst_pts = _points_near(track, cloud)
     n = lc.plane_n
     c = np.asarray(grasp.R, float)[:, 2]
     c = c - float(c @ n) * n
@@ -374,7 +392,16 @@ def box_grasp_blocked(track, cloud: SceneCloud, grasp, hand: HandClearances, gra
     others = np.vstack([_local(fr, obst_pts, lc),
                         own[np.abs(own[:, 1]) > 0.5 * hand.finger_width_m + cfg.column_tolerance_m]])
     blocked, _ = _fingers(others, 0.0, 0.0, float(grasp.width_m), contact_h - hand.pad_below_tcp_m, lim)
-    return f"a finger blocked by {blocked} points" if blocked > cfg.blocked_points else ""
+    if blocked > cfg.blocked_points:
+        return f"a finger blocked by {blocked} points"
+    if spheres is None:
+        return ""
+    obst = _planner_obstacles(lc, h_all, track.smoothed, neighbour_boxes, box_margin_m, cfg, env_grid)
+    boxes = np.c_[_local(fr, obst[:, :3], lc), obst[:, 3]]
+    need = _sphere_need(boxes, 0.0, 0.0, lim.opening(float(grasp.width_m)), spheres)
+    if need > contact_h + 1e-4:
+        return f"the hand meets a neighbour's box unless raised {(need - contact_h) * 1e3:.0f} mm"
+    return ""
 
 
 def fit_lines(track, cloud: SceneCloud, hand: HandClearances, grasp_cfg: GraspConfig,
@@ -393,12 +420,7 @@ def fit_lines(track, cloud: SceneCloud, hand: HandClearances, grasp_cfg: GraspCo
     lc, own_mask, h_all, obst_pts = _points_near(track, cloud)
     if not np.any(own_mask):
         return []
-    # the planner keeps the hand spheres box_margin_m from the boxes in 3-D (also above
-    # their tops): the true top faces, each sample kept that much (and its slack) farther
-    box_pts = box_samples(neighbour_boxes, lc.plane_n, lc.plane_c, 0.0, cfg.box_sample_step_m)
-    box_pts[:, 3] += box_margin_m
-    env_pts = _environment_obstacles(lc, h_all, e, env_grid[1], env_grid[2])
-    box_pts = np.vstack([box_pts, np.c_[env_pts, np.full(len(env_pts), env_grid[0])]])
+    box_pts = _planner_obstacles(lc, h_all, e, neighbour_boxes, box_margin_m, cfg, env_grid)
     centroid = footprint_centroid(lc.points[own_mask], cfg.footprint_cell_m)
     lim = _limits(track, hand, grasp_cfg, cfg, min_width_m, max_width_m)
     out = []

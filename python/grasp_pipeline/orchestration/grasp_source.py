@@ -170,15 +170,19 @@ class GeometricGraspSource:
         return self._free(request, out)
 
     def _free(self, request: GraspRequest, grasps: list) -> list:
-        """The box grasps whose fingers can come down on the scene's points (all of them
-        without points): a box grasp pushing a finger into a neighbour is not offered — the
-        round picks another object first, as it does when no fitted grasp exists."""
+        """The box grasps whose fingers can come down on the scene's points and whose hand
+        clears the neighbours as the planner models them (all of them without points): a box
+        grasp pushing a finger into a neighbour, or one the planner would refuse at the
+        pre-grasp, is not offered — the round picks another object first, as it does when no
+        fitted grasp exists."""
         if request.cloud is None or request.target is None or len(request.cloud) == 0:
             return grasps
+        neighbours = tuple(self._neighbour_boxes(request))
         out = []
         for g in grasps:
             why = box_grasp_blocked(request.target, request.cloud, g, self.hand, self.config,
-                                    self.fit, request.max_width_m)
+                                    self.fit, request.max_width_m, neighbours, self.box_margin_m,
+                                    self.spheres, self.env_grid)
             if why:
                 log.info("box grasp of #%d not offered: %s", request.target.tid, why)
             else:

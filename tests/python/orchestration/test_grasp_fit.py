@@ -271,6 +271,22 @@ def test_a_box_grasp_whose_finger_would_enter_a_neighbour_is_not_offered(closing
     assert bool(why) == blocked and (not why or "finger blocked" in why)
 
 
+@pytest.mark.parametrize("closing, refused", [((1.0, 0.0, 0.0), False), ((0.0, 1.0, 0.0), True)])
+def test_a_box_grasp_whose_hand_meets_a_neighbours_box_is_not_offered(closing, refused):
+    """The planner keeps the hand spheres its margin from the neighbours' boxes and refuses the
+    pre-grasp otherwise: a box grasp closing towards a towering neighbour 65 mm beyond the cube
+    (seen as a box, no points in the finger columns) is not offered — the hand is 214 mm long
+    along its closing axis; the one closing across, 150 mm wide that way, is."""
+    cube = block(0.50, 0.54, 0.00, 0.04, 0.0, 0.04)
+    cloud = scene((0, cube), (ENV, table()))
+    towering = OrientedBox(np.array([0.52, 0.135, 0.10]), np.eye(3), np.array([0.06, 0.06, 0.20]))
+    g = _box_grasp(closing, (0.52, 0.02, 0.02), 0.04)
+    assert box_grasp_blocked(track_of(0, cube), cloud, g, HAND, GRASP, CFG, 0.06) == ""  # points only
+    why = box_grasp_blocked(track_of(0, cube), cloud, g, HAND, GRASP, CFG, 0.06, (towering,), 0.005,
+                            planner_hand_spheres(0.04))
+    assert bool(why) == refused and (not why or "neighbour's box" in why)
+
+
 def test_the_source_offers_a_box_grasp_only_where_its_fingers_come_down_free():
     cube = block(0.50, 0.54, 0.00, 0.04, 0.0, 0.04)
     wall = block(0.555, 0.565, -0.03, 0.07, 0.0, 0.05)
@@ -284,3 +300,19 @@ def test_the_source_offers_a_box_grasp_only_where_its_fingers_come_down_free():
                            cloud=scene(*parts))
         assert len(src.from_box(req)) == offered  # the wall takes the x-closing finger's column
     assert len(src.from_box(replace(req, cloud=None))) == 2  # without points: nothing to judge by
+
+
+def test_the_source_with_the_planners_model_leaves_out_a_box_grasp_the_planner_would_refuse():
+    from grasp_pipeline.motion.config import MotionConfig
+    cube = block(0.50, 0.54, 0.00, 0.04, 0.0, 0.04)
+    towering = OrientedBox(np.array([0.52, 0.135, 0.10]), np.eye(3), np.array([0.06, 0.06, 0.20]))
+    track = track_of(0, cube)
+    track.smoothed.perp_width_m = 0.04
+    along_x = _box_grasp((1.0, 0.0, 0.0), (0.52, 0.02, 0.02), 0.04)  # its perpendicular: along y
+    plane = SimpleNamespace(n=UP, c=0.0)
+    req = GraspRequest((0.52, 0.02), track, along_x,
+                       PerceivedScene(np.zeros((0, 3)), [towering], [1], plane=plane), 0.06,
+                       cloud=scene((0, cube), (ENV, table())))
+    offered = GeometricGraspSource(GRASP, HAND, CFG, MotionConfig()).from_box(req)
+    assert len(GeometricGraspSource(GRASP, HAND, CFG).from_box(req)) == 2  # points only: both
+    assert len(offered) == 1 and abs(np.asarray(offered[0].R)[0, 2]) > 0.99  # closing along x
