@@ -125,6 +125,10 @@ void bind_types(py::module_& m) {
   float_field(sfp, "segment_min_saturation", &SceneFilterParams::segment_min_saturation);
   float_field(sfp, "segment_min_brightness", &SceneFilterParams::segment_min_brightness);
   int_field(sfp, "segment_absorb_max_points", &SceneFilterParams::segment_absorb_max_points);
+  float_field(sfp, "segment_nest_fraction", &SceneFilterParams::segment_nest_fraction);
+  float_field(sfp, "segment_nest_min_slope_deg", &SceneFilterParams::segment_nest_min_slope_deg);
+  float_field(sfp, "segment_nest_max_slope_deg", &SceneFilterParams::segment_nest_max_slope_deg);
+  int_field(sfp, "segment_nest_rings_px", &SceneFilterParams::segment_nest_rings_px);
   float_field(sfp, "depth_noise_sigma_m", &SceneFilterParams::depth_noise_sigma_m);
   float_field(sfp, "depth_noise_ref_range_m", &SceneFilterParams::depth_noise_ref_range_m);
   float_field(sfp, "depth_noise_exponent", &SceneFilterParams::depth_noise_exponent);

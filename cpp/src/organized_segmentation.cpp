@@ -1,6 +1,9 @@
 // (ours, issue 12) Organized segmentation of the candidates. See organized_segmentation.hpp.
 #include "grasp_core/organized_segmentation.hpp"
 
+#include "grasp_core/nested_segments.hpp"
+#include "grasp_core/union_find.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -9,22 +12,6 @@
 
 namespace grasp_core {
 namespace {
-
-int find_root(std::vector<int>& parent, int x) {
-  while (parent[static_cast<std::size_t>(x)] != x) {
-    parent[static_cast<std::size_t>(x)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(x)])];
-    x = parent[static_cast<std::size_t>(x)];
-  }
-  return x;
-}
-
-void unite(std::vector<int>& parent, int a, int b) {
-  a = find_root(parent, a);
-  b = find_root(parent, b);
-  if (a == b) return;
-  if (a < b) std::swap(a, b);
-  parent[static_cast<std::size_t>(a)] = b;  // the lower index is the root: deterministic
-}
 
 /// Hue of a pixel [deg, 0..360), or -1 where it is not reliable (too dark or too grey).
 /// Hue is unchanged by shading (scaling) and by adding white (ambient light, highlights), so
@@ -118,7 +105,8 @@ void absorb_small_segments(const float* xyz, const int* cand_rows, std::size_t n
 std::vector<int> organized_components(const float* cand_xyz, const int* cand_rows,
                                       std::size_t n_cand, std::size_t n_pixels, int width,
                                       const std::uint8_t* rgb, const Vec3& camera,
-                                      const SceneFilterParams& params, OrganizedWorkspace& ws) {
+                                      const SceneFilterParams& params, OrganizedWorkspace& ws,
+                                      const Plane* table) {
   if (width < 1 || n_pixels % static_cast<std::size_t>(width) != 0)
     throw std::invalid_argument("organized_components: the frame's rows must be width x height pixels");
   const int height = static_cast<int>(n_pixels / static_cast<std::size_t>(width));
@@ -175,6 +163,8 @@ std::vector<int> organized_components(const float* cand_xyz, const int* cand_row
     }
   }
   absorb_small_segments(cand_xyz, cand_rows, n_cand, width, height, params, ws);
+  if (table != nullptr)
+    join_nested_segments(cand_xyz, cand_rows, n_cand, width, height, *table, params, pix, ws.parent, ws.nested);
   std::vector<int> comp(n_cand);
   for (std::size_t k = 0; k < n_cand; ++k) comp[k] = find_root(ws.parent, static_cast<int>(k));
   for (std::size_t k = 0; k < n_cand; ++k) pix[cand_rows[k]] = -1;  // leave the map all -1

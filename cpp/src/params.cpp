@@ -72,6 +72,15 @@ void SceneFilterParams::validate() const {
           "segment_min_brightness", segment_min_brightness, "a level in [0, 255]");
   require(segment_absorb_max_points >= 0 && segment_absorb_max_points <= 10000000,
           "segment_absorb_max_points", segment_absorb_max_points, "an integer in [0, 10000000] (0: never)");
+  require(finite(segment_nest_fraction) && segment_nest_fraction <= 1.0,
+          "segment_nest_fraction", segment_nest_fraction, "a fraction <= 1 (<= 0: never joined)");
+  require(finite(segment_nest_min_slope_deg) && segment_nest_min_slope_deg >= 0 && segment_nest_min_slope_deg < 90,
+          "segment_nest_min_slope_deg", segment_nest_min_slope_deg, "an angle in [0, 90) deg");
+  require(finite(segment_nest_max_slope_deg) && segment_nest_max_slope_deg > segment_nest_min_slope_deg &&
+              segment_nest_max_slope_deg < 90,
+          "segment_nest_max_slope_deg", segment_nest_max_slope_deg, "an angle in (segment_nest_min_slope_deg, 90) deg");
+  require(segment_nest_rings_px >= 2 && segment_nest_rings_px <= 50,
+          "segment_nest_rings_px", segment_nest_rings_px, "an integer in [2, 50] px");
   require(finite(depth_noise_sigma_m) && depth_noise_sigma_m > 0 && depth_noise_sigma_m <= 0.1,
           "depth_noise_sigma_m", depth_noise_sigma_m, "a sigma in (0, 0.1] m");
   require(finite(depth_noise_ref_range_m) && depth_noise_ref_range_m > 0 && depth_noise_ref_range_m <= 100,

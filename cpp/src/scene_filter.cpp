@@ -439,7 +439,7 @@ ClusterResult segment_candidates(std::size_t n_cand, std::size_t n_rows,
     res.organized = true;
     const std::vector<int> comp = organized_components(
         ws.cand_xyz.data(), ws.cand_rows.data(), n_cand, n_rows, ctx.image_width, ctx.rgb,
-        *ctx.camera_position, params, ws.organized);
+        *ctx.camera_position, params, ws.organized, &table);
     cl = clusters_from_components(ws.cand_xyz.data(), n_cand, 3, comp, params.cluster_min_points,
                                   params.cluster_min_extent, params.cluster_max_extent, hr);
   } else {

@@ -146,6 +146,10 @@ class SceneFilterParams:
     segment_min_saturation: float
     segment_min_brightness: float
     segment_absorb_max_points: int
+    segment_nest_fraction: float
+    segment_nest_min_slope_deg: float
+    segment_nest_max_slope_deg: float
+    segment_nest_rings_px: int
     depth_noise_sigma_m: float
     depth_noise_ref_range_m: float
     depth_noise_exponent: float

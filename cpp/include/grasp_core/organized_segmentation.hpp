@@ -20,7 +20,9 @@
 // table is below the band, so it is no candidate. Segments of fewer than
 // segment_absorb_max_points points (slivers of steep side faces, whose range steps between
 // pixels are large) then join the large segment they touch most, over neighbour pairs within
-// cluster_eps in 3-D. Components are then labelled by the rules of
+// cluster_eps in 3-D. With the table plane, a segment nested in another one and joined to it by a
+// sloped surface then joins it (nested_segments.hpp: a bottle's cap and shoulder, a bowl's floor
+// and rim seen from above). Components are then labelled by the rules of
 // SPEC 1.4 (min_points, extents) through clusters_from_components().
 //
 // Why not PCL's class itself: OrganizedConnectedComponentSegmentation visits every pixel of
@@ -29,6 +31,7 @@
 #pragma once
 
 #include "grasp_core/clustering.hpp"
+#include "grasp_core/nested_segments.hpp"
 #include "grasp_core/params.hpp"
 #include "grasp_core/types.hpp"
 
@@ -44,16 +47,19 @@ struct OrganizedWorkspace {
   std::vector<float> range, smooth;     ///< per candidate [m]
   std::vector<float> hue;               ///< per candidate [deg], -1: not comparable
   std::vector<int> parent;              ///< union-find
+  NestedWorkspace nested;               ///< join_nested_segments' buffers
 };
 
 /// Segment ids (any ids in [0, n_cand)) of the candidates of an organized frame.
 /// cand_xyz: n_cand interleaved xyz; cand_rows: each candidate's input row = pixel index
 /// (ascending or not, each < width * height, distinct); n_pixels = width * height rows of the frame;
 /// rgb: nullptr or width*height*3 bytes (row-major RGB, aligned with the pixels).
+/// table: the table plane (heights for the nested-segment join) or nullptr (no join).
 /// Throws std::invalid_argument on width < 1, n_pixels % width != 0 or a row >= n_pixels.
 std::vector<int> organized_components(const float* cand_xyz, const int* cand_rows,
                                       std::size_t n_cand, std::size_t n_pixels, int width,
                                       const std::uint8_t* rgb, const Vec3& camera,
-                                      const SceneFilterParams& params, OrganizedWorkspace& ws);
+                                      const SceneFilterParams& params, OrganizedWorkspace& ws,
+                                      const Plane* table = nullptr);
 
 }  // namespace grasp_core

@@ -46,6 +46,10 @@ struct SceneFilterParams {
   double segment_min_saturation = 0.25;   ///< hue compared only where both pixels' saturation (max-min)/max >= this
   double segment_min_brightness = 30.0;   ///< ... and their max channel >= this (0..255)
   int segment_absorb_max_points = 400;    ///< smaller segments join the large one they touch most (within cluster_eps); 0: never
+  double segment_nest_fraction = 0.9;     ///< a segment this much enclosed by another ... (nested_segments.hpp); <= 0: never joined
+  double segment_nest_min_slope_deg = 25.0; ///< ... joins it where that one's surface around it slopes at least this much [deg]
+  double segment_nest_max_slope_deg = 80.0; ///< ... and at most this much (steeper: a wall seen edge-on, a box's side) [deg]
+  int segment_nest_rings_px = 6;          ///< one-pixel rings of the outer segment the slope is measured over [px]
   // (ours, issue 12) Depth noise model of the sensor: sigma(r) = depth_noise_sigma_m * (r / ref)^exp.
   double depth_noise_sigma_m = 0.002;    ///< depth noise sigma at depth_noise_ref_range_m [m]
   double depth_noise_ref_range_m = 0.4;  ///< [m]

@@ -136,6 +136,10 @@ _SCENE_FILTER_RANGES = {
     "segment_min_saturation": _Range(0, 1),
     "segment_min_brightness": _Range(0, 255),
     "segment_absorb_max_points": _Range(0, 10_000_000, unit=" (0: never)"),
+    "segment_nest_fraction": _Range(None, 1.0, unit=" (<= 0: never joined)"),
+    "segment_nest_min_slope_deg": _Range(0, 90, hi_open=True, unit=" deg"),
+    "segment_nest_max_slope_deg": _Range(0, 90, lo_open=True, hi_open=True, unit=" deg"),
+    "segment_nest_rings_px": _Range(2, 50, unit=" px"),
     "depth_noise_sigma_m": _Range(0, 0.1, lo_open=True, unit=" m"),
     "depth_noise_ref_range_m": _Range(0, 100, lo_open=True, unit=" m"),
     "depth_noise_exponent": _Range(0, 4),
@@ -200,6 +204,12 @@ class SceneFilterConfig:
     segment_min_saturation: float = 0.25
     segment_min_brightness: float = 30.0
     segment_absorb_max_points: int = 400
+    #: (ours, issue 12) a segment nested in another one across a sloped surface joins it (a
+    #: bottle's cap and shoulder seen from above); see nested_segments.hpp.
+    segment_nest_fraction: float = 0.9
+    segment_nest_min_slope_deg: float = 25.0
+    segment_nest_max_slope_deg: float = 80.0
+    segment_nest_rings_px: int = 6
     #: (ours, issue 12) depth noise model sigma(r) = sigma * (r / ref)^exponent, and the
     #: range-dependent minimum object height (in sigmas of it; 0 disables).
     depth_noise_sigma_m: float = 0.002

@@ -148,3 +148,31 @@ def test_real_capture_like_cloud_reports_the_near_objects_and_no_far_noise():
     off = PerceptionSession(SceneFilterConfig(object_min_height_sigmas=0.0)).process(pts, CAMERA, 0.0)
     far = [e for e in off.estimates if np.linalg.norm(e.center[:2]) > 1.5]
     assert len(far) >= 3
+
+
+def _bottle(x, y, base_z=0.2):
+    """A bottle seen from above: a 64 mm body 100 mm high, a shoulder of 2 mm stairs rising
+    2 mm each (45 deg) to 32 mm, and a 24 mm cap 15 mm above the shoulder's top."""
+    parts = [syn.Cylinder((x, y), 0.064, 0.100, base_z)]
+    top = base_z + 0.100
+    for d_mm in range(60, 30, -4):
+        parts.append(syn.Cylinder((x, y), d_mm / 1000.0, 0.002, top))
+        top += 0.002
+    parts.append(syn.Cylinder((x, y), 0.024, 0.015, top))
+    return parts
+
+
+def test_a_bottle_seen_from_above_is_one_object_though_its_cap_is_a_step_up():
+    pts, T = _frame(_bottle(0.52, 0.0), eye=(0.52, 0.0, 0.62))
+    assert len(_objects(pts, T, segment_nest_fraction=0.0).raw.filter.cluster_ids) == 2  # cap apart
+    fr = _objects(pts, T)
+    assert len(fr.raw.filter.cluster_ids) == 1
+    assert round(fr.estimates[0].height_m, 2) == 0.13
+
+
+def test_a_box_on_a_larger_box_seen_from_above_stays_two_objects():
+    lower = syn.Box(center_xy=(0.52, 0.0), size_m=(0.06, 0.06, 0.04))
+    upper = syn.Box(center_xy=(0.52, 0.0), size_m=(0.03, 0.03, 0.03), base_z_m=0.24)
+    pts, T = _frame([lower, upper], eye=(0.52, 0.0, 0.62))
+    fr = _objects(pts, T)
+    assert len(fr.raw.filter.cluster_ids) == 2
