@@ -239,6 +239,9 @@ class SceneFilterConfig:
         _require(self.cluster_max_extent <= 0 or self.cluster_max_extent >= self.cluster_min_extent,
                  s, "cluster_max_extent", self.cluster_max_extent,
                  f">= cluster_min_extent = {self.cluster_min_extent:g} m (or <= 0 to disable)")
+        _require(self.segment_nest_max_slope_deg > self.segment_nest_min_slope_deg, s,
+                 "segment_nest_max_slope_deg", self.segment_nest_max_slope_deg,
+                 f"an angle in (segment_nest_min_slope_deg = {self.segment_nest_min_slope_deg:g}, 90) deg")
         _require(self.cluster_voxel_m < self.cluster_eps, s, "cluster_voxel_m", self.cluster_voxel_m,
                  f"a leaf size in [0, cluster_eps = {self.cluster_eps:g}) m (0 = exact)")
 
