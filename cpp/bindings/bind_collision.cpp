@@ -87,10 +87,28 @@ DistanceField make_field(const py::object& values, const py::object& origin, dou
   return f;
 }
 
+/// A ClearedRegion from a dict (center_m, rotation, extents_m, points_m, pad_m, fine_m).
+ClearedRegion point_region(const py::dict& d, const std::string& what, double inflation) {
+  const Arr c = real_array(d["center_m"], (what + " center_m").c_str(), {3});
+  const Arr R = real_array(d["rotation"], (what + " rotation").c_str(), {3, 3});
+  const Arr e = real_array(d["extents_m"], (what + " extents_m").c_str(), {3});
+  const Arr pts = real_array(d["points_m"], (what + " points_m").c_str(), {-1, 3});
+  std::vector<Vec3> p;
+  p.reserve(static_cast<std::size_t>(pts.shape(0)));
+  for (py::ssize_t i = 0; i < pts.shape(0); ++i) p.push_back(row3(pts, i));
+  Mat3 Rm;
+  for (int r = 0; r < 3; ++r)
+    for (int k = 0; k < 3; ++k) Rm(r, k) = R.at(r, k);
+  return translate([&] {
+    return ClearedRegion(ObstacleBox(Vec3(c.at(0), c.at(1), c.at(2)), Rm, Vec3(e.at(0), e.at(1), e.at(2))),
+                         d["pad_m"].cast<double>(), std::move(p), d["fine_m"].cast<double>(), inflation);
+  });
+}
+
 std::shared_ptr<CollisionScene> make_scene(double margin, double floor_z, bool has_env, const py::object& field,
                                            const py::object& origin, double voxel, double inflation,
                                            const py::object& bc, const py::object& br, const py::object& be,
-                                           const py::object& cleared) {
+                                           const py::object& cleared, const py::object& points) {
   auto sc = std::make_shared<CollisionScene>();
   sc->collision_margin_m = finite_arg(margin, "collision_margin_m");
   sc->floor_z_m = finite_arg(floor_z, "floor_z_m");
@@ -99,21 +117,12 @@ std::shared_ptr<CollisionScene> make_scene(double margin, double floor_z, bool h
   if (!field.is_none() && !has_env) throw py::value_error("field_m given with has_env=False");
   sc->boxes = make_boxes(bc, br, be);
   if (!cleared.is_none()) {
-    const py::dict d = cleared.cast<py::dict>();
-    const Arr c = real_array(d["center_m"], "cleared center_m", {3});
-    const Arr R = real_array(d["rotation"], "cleared rotation", {3, 3});
-    const Arr e = real_array(d["extents_m"], "cleared extents_m", {3});
-    const Arr pts = real_array(d["points_m"], "cleared points_m", {-1, 3});
-    std::vector<Vec3> p;
-    for (py::ssize_t i = 0; i < pts.shape(0); ++i) p.push_back(row3(pts, i));
-    Mat3 Rm;
-    for (int r = 0; r < 3; ++r)
-      for (int k = 0; k < 3; ++k) Rm(r, k) = R.at(r, k);
-    sc->cleared = translate([&] {
-      return ClearedRegion(ObstacleBox(Vec3(c.at(0), c.at(1), c.at(2)), Rm, Vec3(e.at(0), e.at(1), e.at(2))),
-                           d["pad_m"].cast<double>(), std::move(p), d["fine_m"].cast<double>(), inflation);
-    });
+    sc->cleared = point_region(cleared.cast<py::dict>(), "cleared", inflation);
     sc->has_cleared = true;
+  }
+  if (!points.is_none()) {
+    sc->points = point_region(points.cast<py::dict>(), "points", 0.0);
+    sc->has_points = true;
   }
   return sc;
 }
@@ -170,12 +179,14 @@ void bind_collision(py::module_& m) {
   py::class_<CollisionScene, std::shared_ptr<CollisionScene>>(
       m, "CollisionScene",
       "One perceived planning scene (immutable): distance field of the occupancy map, object "
-      "boxes, floor, margins, and the optional target-cleared region.")
+      "boxes, floor, margins, the optional target-cleared region and the optional object "
+      "points (neighbours modelled by their points; same dict as cleared, inflation 0).")
       .def(py::init(&make_scene), py::arg("collision_margin_m"), py::arg("floor_z_m"),
            py::arg("has_env") = false, py::arg("field_m") = py::none(), py::arg("origin_m") = py::none(),
            py::arg("voxel_size_m") = 1.0, py::arg("inflation_m") = 0.0,
            py::arg("box_centers_m") = py::none(), py::arg("box_rotations") = py::none(),
-           py::arg("box_extents_m") = py::none(), py::arg("cleared") = py::none())
+           py::arg("box_extents_m") = py::none(), py::arg("cleared") = py::none(),
+           py::arg("points") = py::none())
       .def_property_readonly("num_boxes", [](const CollisionScene& s) { return s.boxes.size(); });
 
   py::class_<StateChecker, std::shared_ptr<StateChecker>>(

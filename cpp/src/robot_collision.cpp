@@ -280,7 +280,9 @@ class Evaluator {
       if (b.distance(cb) >= reach) continue;
       near_boxes_.push_back(static_cast<int>(k));
     }
-    if (floor_clear && map_clear && near_boxes_.empty()) return true;
+    const bool points_clear = !sc_.has_points ||
+        sc_.points.box().distance(cb) - rad - margin - sc_.points.fine_m() >= kBoundSlack_m;
+    if (floor_clear && map_clear && points_clear && near_boxes_.empty()) return true;
     pose_link(l);
     for (int i : link.env_spheres) {
       const Vec3& c = c_[static_cast<std::size_t>(i)];
@@ -289,6 +291,7 @@ class Evaluator {
       if (!map_clear && !sphere_map_ok(i, c, r)) return false;
       for (int k : near_boxes_)
         if (!(sc_.boxes[static_cast<std::size_t>(k)].distance(c) - (r + margin) >= 0.0)) return false;
+      if (!points_clear && sc_.points.blocked(c, r + margin)) return false;
     }
     return true;
   }

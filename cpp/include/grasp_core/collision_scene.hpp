@@ -1,6 +1,6 @@
 // The perceived obstacles of one planning scene, in the form the state checker queries:
 // the occupancy map's distance field, oriented object boxes, the floor plane, and the
-// target-cleared region of the final approach. Immutable once built (shared by checkers).
+// target-cleared region of the final approach, and objects modelled by their points. Immutable once built (shared by checkers).
 //
 // Semantics follow python/grasp_pipeline/motion/occupancy.py exactly:
 // * DistanceField::at(p): the voxel of p is floor((p - origin) / voxel); outside the grid
@@ -89,6 +89,7 @@ class ClearedRegion {
 
   const ObstacleBox& box() const { return box_; }
   double pad_m() const { return pad_; }
+  double fine_m() const { return fine_; }
   /// True when p is close enough to the box for the cleared answer (box distance <= pad).
   bool near(const Vec3& p) const { return box_.distance(p) <= pad_; }
   /// (nearest kept point distance - fine) + inflation, +inf if no point within pad.
@@ -119,6 +120,11 @@ struct CollisionScene {
   std::vector<ObstacleBox> boxes;
   bool has_cleared = false;
   ClearedRegion cleared;
+  /// Objects modelled by their points (2.5-D columns under what the camera saw of them),
+  /// checked for every environment sphere: blocked where a point lies closer than radius +
+  /// margin + the points' grid rounding. Box = the points' bounding box, inflation 0.
+  bool has_points = false;
+  ClearedRegion points;
 };
 
 }  // namespace grasp_core

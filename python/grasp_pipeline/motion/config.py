@@ -46,6 +46,9 @@ class MotionConfig:
     max_grid_voxels: int = 12_000_000
     self_filter_padding_m: float = 0.02
     target_ignore_padding_m: float = 0.05
+    object_points_min_seen_fraction: float = 0.5
+    object_points_seen_through_fraction: float = 0.8
+    object_points_duplicate_overlap: float = 0.5
     floor_z_m: float = 0.0
     # --- Cartesian segments --------------------------------------------------------------
     cartesian_step_m: float = 0.005
@@ -101,6 +104,8 @@ class MotionConfig:
             positive(name)
         for name in ("planner_range_rad", "collision_margin_m", "self_collision_margin_m",
                      "self_filter_padding_m", "target_ignore_padding_m", "ik_tolerance_m",
+                     "object_points_min_seen_fraction", "object_points_seen_through_fraction",
+                     "object_points_duplicate_overlap",
                      "ik_tolerance_rad", "timing_limit_tolerance"):
             non_negative(name)
         for name in ("velocity_scale", "acceleration_scale"):

@@ -4,8 +4,8 @@
 ``_core.RobotCollisionModel`` once: per body its parent, fixed rotation/offset and its arm
 hinge (axis, anchor, zero angle); joints at fixed values (the finger slides, at the
 current finger opening) are folded into the fixed offsets. :func:`collision_scene` turns one
-perceived scene (occupancy distance field, object boxes, target-cleared view, floor and
-margins) into an immutable ``_core.CollisionScene``. The checker then reproduces
+perceived scene (occupancy distance field, object boxes, target-cleared view, object
+points, floor and margins) into an immutable ``_core.CollisionScene``. The checker then reproduces
 :meth:`StateValidator._python_check_batch` exactly (see ``tests/python/motion``).
 """
 
@@ -18,6 +18,7 @@ from .. import _core
 from .config import MotionConfig
 from .exceptions import MotionError
 from .kinematics import ChainKinematics, _axis_angle_batch
+from .object_points import ObjectPoints
 from .occupancy import OccupancyMap, OrientedBox
 from .robot_spheres import RobotSpheres
 
@@ -82,11 +83,13 @@ def _cleared_arrays(env_cleared: OccupancyMap | None) -> dict | None:
 
 
 def collision_scene(config: MotionConfig, env: OccupancyMap | None, boxes: list[OrientedBox],
-                    env_cleared: OccupancyMap | None = None):
+                    env_cleared: OccupancyMap | None = None, points: ObjectPoints | None = None):
     """The ``_core.CollisionScene`` of one perceived scene (``env_cleared``: the map's
-    target-cleared view, used for the hand spheres when target contact is allowed)."""
+    target-cleared view, used for the hand spheres when target contact is allowed;
+    ``points``: the objects modelled by their points)."""
     kw: dict = {"collision_margin_m": config.collision_margin_m, "floor_z_m": config.floor_z_m,
-                "has_env": env is not None, "cleared": _cleared_arrays(env_cleared)}
+                "has_env": env is not None, "cleared": _cleared_arrays(env_cleared),
+                "points": None if points is None or not len(points.points) else points.core_arrays()}
     if env is not None:
         kw.update(voxel_size_m=env.voxel_size_m, inflation_m=env.inflation_m, origin_m=env.origin_m,
                   field_m=env.distance_field_m)

@@ -27,7 +27,8 @@ from .cartesian import CartesianPlanner
 from .config import MotionConfig, load_motion_config
 from .exceptions import EnvironmentCloudError, GoalInCollisionError, PlanningFailedError
 from .ik import IKResult, PandaIK
-from .occupancy import OccupancyMap, OrientedBox
+from .object_points import ObjectPoints, columns
+from .occupancy import OccupancyMap, OrientedBox, cell_rounding_m, cleared_cell_m
 from .planner import JointPlanner
 from .poses import validate_joints, validate_pose
 from .robot_spheres import RobotSpheres
@@ -57,13 +58,20 @@ class MotionPlanner:
         self.timer = TrajectoryTimer(rm.PANDA_QD_MAX, rm.PANDA_QDD_MAX, cfg)
         self.env: OccupancyMap | None = None
         self.boxes: list[OrientedBox] = []
+        self.object_tops: list = []
+        self.plane = None
         self.target_index: int | None = None
         self.last_scene_ms = 0.0
 
     # ------------------------------------------------------------------ scene
     def set_scene(self, environment_points: np.ndarray, object_boxes: list[OrientedBox] | None = None,
-                  capture_q: np.ndarray | None = None, target_index: int | None = None) -> OccupancyMap:
+                  capture_q: np.ndarray | None = None, target_index: int | None = None,
+                  object_tops: list | None = None, plane=None) -> OccupancyMap:
         """Build the occupancy map from perceived environment points; keep the object boxes.
+
+        ``object_tops``: per box (same order), the column tops of an object modelled by its
+        points (:mod:`.object_points`, on the grid of half a voxel; empty: no obstacle) or None
+        (modelled by its box); ``plane``: the table (``n``, ``c``) the columns reach down to (None: tops only).
 
         ``capture_q``: arm joints when the points were captured — points inside the robot's
         own spheres (+ ``self_filter_padding_m``) at that state are dropped (the robot's
@@ -87,6 +95,9 @@ class MotionPlanner:
                                             max_points=cfg.max_environment_points,
                                             max_voxels=cfg.max_grid_voxels)
         self.boxes = list(object_boxes or [])
+        tops = list(object_tops or [])
+        self.object_tops = tops + [None] * (len(self.boxes) - len(tops))
+        self.plane = plane
         self.set_target(target_index)
         self.last_scene_ms = (time.perf_counter() - t0) * 1e3
         return self.env
@@ -96,9 +107,22 @@ class MotionPlanner:
         if target_index is not None and not (0 <= target_index < len(self.boxes)):
             raise IndexError(f"target index {target_index} out of range ({len(self.boxes)} boxes)")
         self.target_index = target_index
-        obstacles = [b for i, b in enumerate(self.boxes) if i != target_index]
+        others = [i for i in range(len(self.boxes)) if i != target_index]
+        obstacles = [self.boxes[i] for i in others if self.object_tops[i] is None]
+        tops = [self.object_tops[i] for i in others if self.object_tops[i] is not None
+                and len(self.object_tops[i])]
         target = self.boxes[target_index] if target_index is not None else None
-        self.validator.set_scene(self.env, obstacles, target)
+        self.validator.set_scene(self.env, obstacles, target, self._object_points(tops))
+
+    def _object_points(self, tops: list) -> ObjectPoints | None:
+        """The columns under the non-target objects' tops, as the validator's point obstacles."""
+        if not tops:
+            return None
+        cell = cleared_cell_m(self.config.voxel_size_m)
+        pts = np.vstack(tops)
+        if self.plane is not None:
+            pts = columns(pts, self.plane.n, float(self.plane.c), cell)
+        return ObjectPoints(pts, cell, self.validator.required_points_pad_m(cell_rounding_m(cell)))
 
     def set_finger_opening(self, gap_m: float) -> None:
         """Finger gap assumed by the collision model (e.g. the object width while holding)."""

@@ -40,10 +40,15 @@ def cleared_cell_m(voxel_size_m: float) -> float:
     return voxel_size_m * _CLEARED_FINE_FRACTION
 
 
+def cell_rounding_m(cell_m: float) -> float:
+    """How far a point may lie from its ``cell_m`` cell's centre (half the cell's diagonal) [m]."""
+    return 0.5 * math.sqrt(3.0) * cell_m
+
+
 def cleared_rounding_m(voxel_size_m: float) -> float:
     """How far a kept point near the grasp target may lie from its fine-grid cell centre
     (half the cell's diagonal): subtracted from the nearest distances there."""
-    return 0.5 * math.sqrt(3.0) * cleared_cell_m(voxel_size_m)
+    return cell_rounding_m(cleared_cell_m(voxel_size_m))
 
 
 @dataclass(frozen=True)

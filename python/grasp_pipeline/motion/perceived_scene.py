@@ -2,8 +2,9 @@
 
 :class:`PerceivedScene` is what planning may use: environment points (table, floor, walls —
 everything that is not an accepted object), one oriented box per tracked object (with the
-track's id), the arm joints at capture (for removing the robot's own points) and the camera
-pose. It never holds simulator ground truth. ``grasp_pipeline.orchestration.scene_model``
+track's id), each object's points in the latest frame (for modelling neighbours by their
+points, :mod:`.object_points`), the arm joints at capture (for removing the robot's own points)
+and the camera pose. It never holds simulator ground truth. ``grasp_pipeline.orchestration.scene_model``
 builds one from the perception loop.
 """
 
@@ -14,6 +15,8 @@ from typing import Optional
 
 import numpy as np
 
+from .object_points import (PointModel, column_tops, footprint_overlap, seen_cells, seen_fraction,
+                            seen_through)
 from .occupancy import OrientedBox
 
 
@@ -22,9 +25,10 @@ class PerceivedScene:
     """Perceived obstacles frozen at one instant.
 
     ``environment_points`` (N, 3) world [m]; ``boxes`` one :class:`OrientedBox` per object,
-    ``tids`` the track id of each (same order); ``capture_q`` (7,) arm joints at capture or
-    None; ``T_world_camera`` (4, 4) camera pose at capture or None; ``plane`` the table
-    plane (``_core.Plane``) or None."""
+    ``tids`` the track id of each (same order); ``object_points`` the (N, 3) world points of
+    each in the latest frame (same order; empty or missing: not seen); ``capture_q`` (7,) arm
+    joints at capture or None; ``T_world_camera`` (4, 4) camera pose at capture or None;
+    ``plane`` the table plane (``_core.Plane``) or None."""
 
     environment_points: np.ndarray
     boxes: list[OrientedBox] = field(default_factory=list)
@@ -32,6 +36,7 @@ class PerceivedScene:
     capture_q: Optional[np.ndarray] = None
     T_world_camera: Optional[np.ndarray] = None
     plane: object = None
+    object_points: list[np.ndarray] = field(default_factory=list)
 
     def index_of(self, tid: Optional[int]) -> Optional[int]:
         return self.tids.index(tid) if tid is not None and tid in self.tids else None
@@ -39,7 +44,54 @@ class PerceivedScene:
     def keep(self, indices) -> "PerceivedScene":
         """The same scene with only the boxes at ``indices``."""
         idx = list(indices)
-        return replace(self, boxes=[self.boxes[i] for i in idx], tids=[self.tids[i] for i in idx])
+        pts = [self.object_points[i] for i in idx] if self.object_points else []
+        return replace(self, boxes=[self.boxes[i] for i in idx], tids=[self.tids[i] for i in idx],
+                       object_points=pts)
+
+    def object_tops(self, model: PointModel) -> list[Optional[np.ndarray]]:
+        """Per object (same order as ``boxes``), as ``model`` models it
+        (:mod:`~.object_points`): its column tops when its points cover at least
+        ``model.min_seen_fraction`` of its box's footprint; empty when they do not but the frame
+        saw through that footprint (no obstacle of its own); else None (modelled by its box)."""
+        if model.boxes_only:
+            return [None] * len(self.boxes)
+        out: list[Optional[np.ndarray]] = []
+        for i, box in enumerate(self.boxes):
+            pts = self.object_points[i] if i < len(self.object_points) else np.zeros((0, 3))
+            top = column_tops(pts, model.cell_m)
+            seen = len(top) and seen_fraction(top, box, model.cell_m) >= model.min_seen_fraction
+            out.append(top if seen else None)
+        unseen = [i for i, t in enumerate(out) if t is None]
+        if unseen:
+            cells = seen_cells(np.vstack([self.environment_points.reshape(-1, 3), *self.object_points]),
+                               model.cell_m)
+            seen_boxes = [b for b, t in zip(self.boxes, out) if t is not None]
+            for i in unseen:
+                if self._no_obstacle_of_its_own(self.boxes[i], cells, seen_boxes, model):
+                    out[i] = np.zeros((0, 3))
+        return out
+
+    @staticmethod
+    def _no_obstacle_of_its_own(box: OrientedBox, cells: np.ndarray, seen_boxes: list,
+                                model: PointModel) -> bool:
+        """An unseen object's box holds nothing of its own: the frame saw through its
+        footprint, or it overlaps a seen object's (a duplicate track; :mod:`.object_points`)."""
+        if seen_through(box, cells, model.cell_m) >= model.seen_through_fraction:
+            return True
+        return any(footprint_overlap(box, b, model.cell_m) >= model.duplicate_overlap for b in seen_boxes)
+
+    def obstacles(self, target_tid: Optional[int], model: PointModel) -> tuple[list[OrientedBox], np.ndarray]:
+        """Every object but ``target_tid`` as an obstacle, as :meth:`object_tops` models it:
+        (the boxes of those modelled by their box, (M, 3) the column tops of the others)."""
+        boxes, tops = [], []
+        for box, tid, top in zip(self.boxes, self.tids, self.object_tops(model)):
+            if tid == target_tid:
+                continue
+            if top is None:
+                boxes.append(box)
+            else:
+                tops.append(top)
+        return boxes, (np.vstack(tops) if tops else np.zeros((0, 3)))
 
     def without_fragments(self, target_tid: int, margin_m: float) -> "PerceivedScene":
         """Drop boxes centred on the target's footprint (+ ``margin_m``): pieces of the

@@ -30,6 +30,7 @@ from .. import _core
 from ..robot import description as rm
 from . import core_checker
 from .config import MotionConfig
+from .object_points import ObjectPoints
 from .occupancy import OccupancyMap, OrientedBox
 from .robot_spheres import RobotSpheres
 
@@ -89,12 +90,20 @@ class StateValidator:
         v = self.config.voxel_size_m
         return float(self._env_r.max() + self.config.collision_margin_m + np.sqrt(3.0) * v + v)
 
+    def required_points_pad_m(self, fine_m: float) -> float:
+        """The reach point-obstacle queries need: the largest sphere's radius + margin + the
+        points' rounding ``fine_m``, plus a millimetre."""
+        return float(self._env_r.max() + self.config.collision_margin_m + fine_m + 1e-3)
+
     def set_scene(self, env: OccupancyMap | None, boxes: list[OrientedBox],
-                  target_box: OrientedBox | None = None) -> None:
-        """Obstacles: the environment map, the non-target boxes, and (optionally) the target
-        box whose padded region the hand may enter when ``allow_target_contact`` is set."""
+                  target_box: OrientedBox | None = None, points: ObjectPoints | None = None) -> None:
+        """Obstacles: the environment map, the non-target boxes, the objects modelled by their
+        points (never cleared: a neighbour stays an obstacle in the final approach), and
+        (optionally) the target box whose padded region the hand may enter when
+        ``allow_target_contact`` is set."""
         self.env = env
         self.boxes = list(boxes)
+        self.points = points if points is not None and len(points.points) else None
         self.target_box = target_box
         self._env_cleared = None
         if env is not None and target_box is not None:
@@ -102,7 +111,8 @@ class StateValidator:
                 target_box.inflated(self.config.target_ignore_padding_m))
         self._env_thr = self._env_r + self.config.collision_margin_m + (env.inflation_m if env else 0.0)
         self._box_thr = self._env_r + self.config.collision_margin_m
-        self._scene = core_checker.collision_scene(self.config, env, self.boxes, self._env_cleared)
+        self._scene = core_checker.collision_scene(self.config, env, self.boxes, self._env_cleared,
+                                                   self.points)
         if self._core is not None:
             self._core.set_scene(self._scene)
 
@@ -126,13 +136,12 @@ class StateValidator:
             env_slack = d - self._env_thr
         else:
             env_slack = np.full((n, se), np.inf)
-        if self.boxes:
-            db = np.full(len(flat), np.inf)
-            for b in self.boxes:
-                db = np.minimum(db, b.distance_m(flat))
-            box_slack = db.reshape(n, se) - self._box_thr
-        else:
-            box_slack = np.full((n, se), np.inf)
+        db = np.full(len(flat), np.inf)
+        for b in self.boxes:
+            db = np.minimum(db, b.distance_m(flat))
+        if self.points is not None:
+            db = np.minimum(db, self.points.distance_m(flat))
+        box_slack = db.reshape(n, se) - self._box_thr
         floor_slack = E[..., 2] - self._env_r - self.config.floor_z_m
         return lim_ok, self_min, env_slack, box_slack, floor_slack, C
 
@@ -212,7 +221,7 @@ class StateValidator:
             reasons.append(f"self-collision between {a} and {b} ({-d[k] * 1e3:.1f} mm overlap)")
         names = [m.body(int(b)).name for b in self.robot.spheres.body[self._env_idx]]
         for label, slack in (("perceived environment (occupancy map)", env_slack[0]),
-                             ("a non-target object box", box_slack[0]), ("the floor", floor_slack[0])):
+                             ("a non-target object box (or an object's points)", box_slack[0]), ("the floor", floor_slack[0])):
             if np.any(slack < 0):
                 k = int(np.argmin(slack))
                 p = C[0, self._env_idx[k]]

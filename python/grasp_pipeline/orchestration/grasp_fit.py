@@ -46,7 +46,7 @@ words, next to SPEC 3: ``docs/spec_extensions.md``.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import Optional
 
 import numpy as np
@@ -248,7 +248,7 @@ def check_line(own: np.ndarray, obstacles: np.ndarray, a0: float, contact_h: flo
             return LineCheck(True, "", mid, width, clear, contact_h)
         limit = lim.top_h + hand.pad_below_tcp_m - cfg.min_pad_overlap_m
         if attempt or need > limit:
-            return LineCheck(False, f"the hand meets a neighbour's box unless raised "
+            return LineCheck(False, f"the hand meets a neighbour unless raised "
                                     f"{(need - contact_h) * 1e3:.0f} mm", mid, width)
         contact_h = need
     return LineCheck(False, "unreachable")
@@ -336,26 +336,48 @@ def _environment_obstacles(lc: SceneCloud, h_all: np.ndarray, box, cell_m: float
     return c + (cells + 0.5) * cell_m
 
 
-def _planner_obstacles(lc: SceneCloud, h_all: np.ndarray, box, neighbour_boxes: tuple,
+@dataclass(frozen=True)
+class Neighbours:
+    """The other objects as the planner models them: ``boxes`` (``OrientedBox``) and
+    ``tops`` (M, 3) world column tops of those modelled by their points
+    (:mod:`grasp_pipeline.motion.object_points`), kept ``tops_slack_m`` farther (the planner's
+    margin plus the cells' rounding)."""
+
+    boxes: tuple = ()
+    tops: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    tops_slack_m: float = 0.0
+
+    def near(self, xy, radius_m: float) -> "Neighbours":
+        """The same, with only the tops within ``radius_m`` horizontally of ``xy``."""
+        t = np.asarray(self.tops, float).reshape(-1, 3)
+        keep = np.hypot(t[:, 0] - float(xy[0]), t[:, 1] - float(xy[1])) <= radius_m
+        return replace(self, tops=t[keep])
+
+
+def _planner_obstacles(lc: SceneCloud, h_all: np.ndarray, box, neighbours: Neighbours,
                        box_margin_m: float, cfg: GraspFitConfig,
                        env_grid: tuple[float, float, float]) -> np.ndarray:
     """(N, 4) world samples of what the planner keeps the hand spheres away from, each with
-    its slack [m]: the neighbours' top faces (kept ``box_margin_m`` farther, in 3-D — also
-    above their tops) and the environment points outside the target's ``box`` (``env_grid``:
-    see :func:`fit_lines`)."""
-    box_pts = box_samples(neighbour_boxes, lc.plane_n, lc.plane_c, 0.0, cfg.box_sample_step_m)
+    its slack [m]: the neighbours' box top faces (kept ``box_margin_m`` farther, in 3-D — also
+    above their tops), the column tops of the neighbours modelled by their points, and the
+    environment points outside the target's ``box`` (``env_grid``: see :func:`fit_lines`)."""
+    box_pts = box_samples(neighbours.boxes, lc.plane_n, lc.plane_c, 0.0, cfg.box_sample_step_m)
     box_pts[:, 3] += box_margin_m
+    tops = np.c_[neighbours.tops, np.full(len(neighbours.tops), neighbours.tops_slack_m)]
     env_pts = _environment_obstacles(lc, h_all, box, env_grid[1], env_grid[2])
-    return np.vstack([box_pts, np.c_[env_pts, np.full(len(env_pts), env_grid[0])]])
+    return np.vstack([box_pts, tops, np.c_[env_pts, np.full(len(env_pts), env_grid[0])]])
+
+
+def _reach_m(track) -> float:
+    """How far horizontally from ``track``'s centre anything can touch the hand [m]."""
+    return 0.5 * float(np.hypot(*np.asarray(track.smoothed.extents)[:2])) + _HAND_REACH_M
 
 
 def _points_near(track, cloud: SceneCloud):
     """The scene's points within the hand's reach of ``track``: (cloud, mask of the track's own
     points, heights [m], points that can block a finger — other objects, untracked clusters,
     environment above the table band)."""
-    e = track.smoothed
-    reach = 0.5 * float(np.hypot(*np.asarray(e.extents)[:2])) + _HAND_REACH_M
-    lc = cloud.near(np.asarray(e.center)[:2], reach)
+    lc = cloud.near(np.asarray(track.smoothed.center)[:2], _reach_m(track))
     own_mask = lc.owner == int(track.tid)
     h_all = lc.heights_m()
     return lc, own_mask, h_all, lc.points[~own_mask & ((lc.owner != ENVIRONMENT) | (h_all > lc.band_m))]
@@ -369,7 +391,7 @@ def _limits(track, hand: HandClearances, grasp_cfg: GraspConfig, cfg: GraspFitCo
 
 
 def box_grasp_blocked(track, cloud: SceneCloud, grasp, hand: HandClearances, grasp_cfg: GraspConfig,
-                      cfg: GraspFitConfig, max_width_m: float, neighbour_boxes: tuple = (),
+                      cfg: GraspFitConfig, max_width_m: float, neighbours: Optional[Neighbours] = None,
                       box_margin_m: float = 0.0, spheres: Optional[HandSpheres] = None,
                       env_grid: tuple[float, float, float] = (0.0, 0.005, 0.0)) -> str:
     """Why SPEC 3's box ``grasp`` (``_core.BestGrasp``) of ``track`` cannot come down ('' when
@@ -378,7 +400,7 @@ def box_grasp_blocked(track, cloud: SceneCloud, grasp, hand: HandClearances, gra
     than ``blocked_points`` points of anything but the object's material between the pads would
     push into a neighbour, the pile or the object itself; with the planner's hand ``spheres`` the
     hand must also stay clear of the neighbours' boxes and the environment points as the planner
-    keeps them (``neighbour_boxes``, ``box_margin_m``, ``env_grid``: see :func:`fit_lines`) —
+    keeps them (``neighbours``, ``box_margin_m``, ``env_grid``: see :func:`fit_lines`) —
     the planner refuses such a grasp at the pre-grasp. Unlike a fitted line it is not raised."""
     lc, own_mask, h_all, obst_pts = _points_near(track, cloud)
     n = lc.plane_n
@@ -396,22 +418,24 @@ def box_grasp_blocked(track, cloud: SceneCloud, grasp, hand: HandClearances, gra
         return f"a finger blocked by {blocked} points"
     if spheres is None:
         return ""
-    obst = _planner_obstacles(lc, h_all, track.smoothed, neighbour_boxes, box_margin_m, cfg, env_grid)
+    near = (neighbours or Neighbours()).near(np.asarray(track.smoothed.center)[:2], _reach_m(track))
+    obst = _planner_obstacles(lc, h_all, track.smoothed, near, box_margin_m, cfg, env_grid)
     boxes = np.c_[_local(fr, obst[:, :3], lc), obst[:, 3]]
     need = _sphere_need(boxes, 0.0, 0.0, lim.opening(float(grasp.width_m)), spheres)
     if need > contact_h + 1e-4:
-        return f"the hand meets a neighbour's box unless raised {(need - contact_h) * 1e3:.0f} mm"
+        return f"the hand meets a neighbour unless raised {(need - contact_h) * 1e3:.0f} mm"
     return ""
 
 
 def fit_lines(track, cloud: SceneCloud, hand: HandClearances, grasp_cfg: GraspConfig,
               cfg: GraspFitConfig, min_width_m: float, max_width_m: float,
-              neighbour_boxes: tuple = (), box_margin_m: float = 0.0,
+              neighbours: Optional[Neighbours] = None, box_margin_m: float = 0.0,
               spheres: Optional[HandSpheres] = None,
               env_grid: tuple[float, float, float] = (0.0, 0.005, 0.0)) -> list[FittedLine]:
     """Every checked line of ``track`` (ok and not), in no particular order.
-    ``neighbour_boxes``: the planner's boxes of the other objects (top faces sampled), kept
-    ``box_margin_m`` clear of the planner's hand ``spheres``, as the planner keeps them; so are the environment
+    ``neighbours``: the other objects as the planner models them (:class:`Neighbours`: box top
+    faces sampled, kept ``box_margin_m`` clear of the planner's hand ``spheres``, and column tops
+    of those modelled by their points), as the planner keeps them; so are the environment
     points above the table band outside the target's box (unsegmented parts of a pile, which
     the planner's occupancy map holds): ``env_grid`` = (margin [m], grid cell [m], cleared
     padding [m]), the planner's margin, its rounding of the points near the target and how
@@ -420,7 +444,8 @@ def fit_lines(track, cloud: SceneCloud, hand: HandClearances, grasp_cfg: GraspCo
     lc, own_mask, h_all, obst_pts = _points_near(track, cloud)
     if not np.any(own_mask):
         return []
-    box_pts = _planner_obstacles(lc, h_all, e, neighbour_boxes, box_margin_m, cfg, env_grid)
+    near = (neighbours or Neighbours()).near(np.asarray(e.center)[:2], _reach_m(track))
+    box_pts = _planner_obstacles(lc, h_all, e, near, box_margin_m, cfg, env_grid)
     centroid = footprint_centroid(lc.points[own_mask], cfg.footprint_cell_m)
     lim = _limits(track, hand, grasp_cfg, cfg, min_width_m, max_width_m)
     out = []

@@ -25,12 +25,13 @@ from typing import Optional, Protocol, Sequence, runtime_checkable
 import numpy as np
 
 from .. import _core
-from ..motion.occupancy import cleared_cell_m, cleared_rounding_m
+from ..motion.occupancy import cell_rounding_m, cleared_cell_m, cleared_rounding_m
+from ..motion.object_points import PointModel
 from ..motion.perceived_scene import PerceivedScene
 from ..motion.robot_spheres import hand_spheres_in_tcp
 from ..robot.description import GRIPPER_MAX_WIDTH_M, HandClearances, hand_clearances, load_robot_model
 from .config import GraspConfig, GraspFitConfig
-from .grasp_fit import HandSpheres, box_grasp_blocked, fit_lines, rank_lines
+from .grasp_fit import HandSpheres, Neighbours, box_grasp_blocked, fit_lines, rank_lines
 from .scene_cloud import SceneCloud
 from .selection import perpendicular_grasp
 
@@ -105,8 +106,8 @@ class GeometricGraspSource:
     ``config``: the grasp parameters (clearances); ``fit``: the point checks' parameters;
     ``hand``: the hand's extent around the TCP (default: read from the robot model);
     ``motion``: the planner's collision model (``MotionConfig``: sphere cell, margin) — with
-    it a fitted grasp also clears the neighbours as the planner models them (boxes, hand
-    spheres); None: only the points are checked."""
+    it a fitted grasp also clears the neighbours as the planner models them (boxes, or points
+    where seen; hand spheres); None: only the points are checked."""
 
     name = "geometric"
 
@@ -117,16 +118,22 @@ class GeometricGraspSource:
         self.fit = fit or GraspFitConfig()
         self.box_margin_m = 0.0 if motion is None else float(motion.collision_margin_m)
         self.spheres = None if motion is None else planner_hand_spheres(motion.sphere_cell_m)
+        # neighbours seen well enough are the planner's point obstacles
+        self.points_model = None if motion is None else PointModel.from_motion(motion)
         # environment points as the planner holds them near the target: on its fine grid,
         # kept at its margin plus that grid's rounding (OccupancyMap.with_cleared_region)
         self.env_grid = (0.0, 0.005, 0.0) if motion is None else (
             self.box_margin_m + cleared_rounding_m(float(motion.voxel_size_m)),
             cleared_cell_m(float(motion.voxel_size_m)), float(motion.target_ignore_padding_m))
 
-    def _neighbour_boxes(self, request: GraspRequest) -> list:
+    def _neighbours(self, request: GraspRequest) -> Neighbours:
+        """The other objects as the planner will model them (boxes, or points where seen)."""
         tid = int(request.target.tid)
         scene = request.scene.without_fragments(tid, self.config.fragment_margin_m)
-        return [b for b, t in zip(scene.boxes, scene.tids) if t != tid]
+        if self.points_model is None:
+            return Neighbours(tuple(b for b, t in zip(scene.boxes, scene.tids) if t != tid))
+        boxes, tops = scene.obstacles(tid, self.points_model)
+        return Neighbours(tuple(boxes), tops, self.box_margin_m + cell_rounding_m(self.points_model.cell_m))
 
     def propose(self, request: GraspRequest) -> list:
         """Fitted grasps first, then SPEC 3's box grasps whose fingers' descent is free on the
@@ -140,11 +147,11 @@ class GeometricGraspSource:
             return []
         lines = fit_lines(request.target, request.cloud, self.hand, self.config, self.fit,
                           request.min_width_m, request.max_width_m,
-                          tuple(self._neighbour_boxes(request)), self.box_margin_m, self.spheres,
+                          self._neighbours(request), self.box_margin_m, self.spheres,
                           self.env_grid)
         ranked = rank_lines(lines, self.fit)
         if not ranked:
-            reasons = sorted({ln.reason.split(" (")[0].split(" by ")[0] if ln.reason else
+            reasons = sorted({ln.reason.split(" (")[0].split(" by ")[0].split(" unless")[0] if ln.reason else
                               "too far from the centroid" for ln in lines})
             log.info("no closing line of #%d passes the point checks (%d tried: %s); box grasps",
                      request.target.tid, len(lines), "; ".join(reasons) or "no points of it")
@@ -177,7 +184,7 @@ class GeometricGraspSource:
         fitted grasp exists."""
         if request.cloud is None or request.target is None or len(request.cloud) == 0:
             return grasps
-        neighbours = tuple(self._neighbour_boxes(request))
+        neighbours = self._neighbours(request)
         out = []
         for g in grasps:
             why = box_grasp_blocked(request.target, request.cloud, g, self.hand, self.config,

@@ -19,6 +19,7 @@ import numpy as np
 
 from ..motion.executor import ExecutionReport, TrajectoryExecutor
 from ..motion.motion_planner import MotionPlanner
+from ..motion.object_points import PointModel
 from ..motion.occupancy import OrientedBox
 from ..motion.perceived_scene import PerceivedScene
 from ..motion.trajectory import JointPath, JointTrajectory
@@ -48,10 +49,14 @@ class MotionClient:
 
     # ---- scene ------------------------------------------------------------------
     def set_scene(self, scene: PerceivedScene, target_tid: Optional[int] = None) -> None:
-        """Perceived obstacles; the box of track ``target_tid`` is the target (no obstacle)."""
+        """Perceived obstacles; the box of track ``target_tid`` is the target (no obstacle); the
+        other objects are modelled by their points where they were seen well enough, else by
+        their boxes (:class:`~grasp_pipeline.motion.object_points.PointModel`)."""
         self.object_boxes = list(scene.boxes)
+        tops = scene.object_tops(PointModel.from_motion(self.planner.config))
         self.planner.set_scene(scene.environment_points, self.object_boxes + self.fixtures,
-                               capture_q=scene.capture_q, target_index=scene.index_of(target_tid))
+                               capture_q=scene.capture_q, target_index=scene.index_of(target_tid),
+                               object_tops=tops, plane=scene.plane)
 
     def set_target(self, target_index: Optional[int]) -> None:
         self.planner.set_target(target_index)

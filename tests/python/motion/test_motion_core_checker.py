@@ -192,3 +192,35 @@ def test_first_invalid_state_is_the_first_invalid_dense_state(planner, table_clo
     with pytest.raises(ValueError, match="max_step_rad"):
         v.core().first_invalid_on_path(np.zeros((3, 7)), 0.0)
     assert v.core().first_invalid_on_path(np.zeros((1, 7)), step) == (-1, -1)
+
+
+def test_core_equals_reference_with_objects_modelled_by_their_points(planner, table_cloud, rng):
+    """Neighbours as point columns (never cleared, every sphere): the C++ checker answers as the
+    reference on random, near-boundary and hand states around them, with and without target
+    contact; and a column stops a hand that its box would have stopped."""
+    from types import SimpleNamespace
+    from grasp_pipeline.motion.object_points import column_tops
+    boxes = [OrientedBox(np.array([0.55, 0.0, 0.25]), np.eye(3), np.array([0.05, 0.06, 0.1])),
+             OrientedBox(np.array([0.55, 0.09, 0.26]), np.eye(3), np.array([0.06, 0.06, 0.12]))]
+    a, r = rng.uniform(0, 2 * np.pi, 3000), 0.03 * np.sqrt(rng.uniform(0, 1, 3000))
+    bottle = np.c_[0.55 + r * np.cos(a), 0.09 + r * np.sin(a), np.full(3000, 0.32)]  # its cap seen from above
+    tops = [None, column_tops(bottle, 0.005)]
+    plane = SimpleNamespace(n=np.array([0.0, 0.0, 1.0]), c=-0.2)
+    planner.set_scene(table_cloud(rng, n=40000), boxes, target_index=0, object_tops=tops, plane=plane)
+    v = planner.validator
+    assert v.boxes == [] and v.points is not None and len(v.points.points) > 10 * len(tops[1])
+    T = planner.ik.fk_tcp(rm.READY_Q)
+    T[:3, 3] = [0.55, 0.04, 0.30]
+    q_t = planner.ik.solve_tcp(T, rm.READY_Q).q
+    try:
+        for allow in (False, True):
+            v.allow_target_contact = allow
+            Q = np.vstack([rng.uniform(v.q_min, v.q_max, size=(1500, 7)), _near_boundary(v, rng, 100),
+                           q_t + rng.normal(0.0, 0.05, size=(1500, 7))])
+            ok = _compare(v, Q)
+            assert 0.05 * len(Q) < ok.sum() < 0.95 * len(Q)
+    finally:
+        v.allow_target_contact = False
+    T[:3, 3] = [0.55, 0.09, 0.30]  # the hand inside the bottle
+    q_in = planner.ik.solve_tcp(T, rm.READY_Q).q
+    assert not v.is_valid(q_in) and "object's points" in v.explain(q_in)

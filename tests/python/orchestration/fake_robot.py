@@ -174,6 +174,6 @@ class FakeMotion:
 def fake_loop():
     """A perception loop stand-in: a locked table plane at z = 0.2 m, no tracks."""
     plane = SimpleNamespace(n=np.array([0.0, 0.0, 1.0]), c=-0.2, height_m=0.2)
-    return SimpleNamespace(tracks=lambda: [], plane=plane, latest=None,
+    return SimpleNamespace(tracks=lambda: [], plane=plane, latest=None, scene_cloud=lambda: None,
                            selector=SimpleNamespace(best_grasp=None),
                            report_if_stale=lambda now: False)

@@ -8,8 +8,8 @@ import pytest
 
 from grasp_pipeline.motion.occupancy import OrientedBox
 from grasp_pipeline.orchestration.config import GraspConfig, GraspFitConfig
-from grasp_pipeline.orchestration.grasp_fit import (FittedLine, box_grasp_blocked, box_samples, check_line,
-                                                    fit_lines, rank_lines, LineLimits)
+from grasp_pipeline.orchestration.grasp_fit import (FittedLine, LineLimits, Neighbours, box_grasp_blocked,
+                                                    box_samples, check_line, fit_lines, rank_lines)
 from grasp_pipeline.orchestration.grasp_source import GeometricGraspSource, GraspRequest, planner_hand_spheres
 from grasp_pipeline.motion.perceived_scene import PerceivedScene
 from grasp_pipeline.robot.description import HandClearances
@@ -23,7 +23,7 @@ GRASP = GraspConfig()
 
 
 def _fit(track, cloud, boxes=(), spheres=None):
-    lines = fit_lines(track, cloud, HAND, GRASP, CFG, 0.005, 0.06, boxes, 0.005, spheres)
+    lines = fit_lines(track, cloud, HAND, GRASP, CFG, 0.005, 0.06, Neighbours(tuple(boxes)), 0.005, spheres)
     return lines, rank_lines(lines, CFG)
 
 
@@ -120,7 +120,7 @@ def test_a_neighbour_box_under_the_hand_raises_the_grasp_or_refuses_it():
     towering = OrientedBox(np.array([0.52, 0.09, 0.10]), np.eye(3), np.array([0.06, 0.06, 0.20]))
     lines, ranked = _fit(track_of(0, cube), cloud, (towering,), spheres)
     assert all(ln.axis == 0 for ln in ranked)
-    assert any("neighbour's box" in ln.reason for ln in lines if ln.axis == 1)
+    assert any("meets a neighbour" in ln.reason for ln in lines if ln.axis == 1)
 
 
 def test_unsegmented_environment_points_under_the_hand_count_like_a_neighbour_box():
@@ -282,9 +282,9 @@ def test_a_box_grasp_whose_hand_meets_a_neighbours_box_is_not_offered(closing, r
     towering = OrientedBox(np.array([0.52, 0.135, 0.10]), np.eye(3), np.array([0.06, 0.06, 0.20]))
     g = _box_grasp(closing, (0.52, 0.02, 0.02), 0.04)
     assert box_grasp_blocked(track_of(0, cube), cloud, g, HAND, GRASP, CFG, 0.06) == ""  # points only
-    why = box_grasp_blocked(track_of(0, cube), cloud, g, HAND, GRASP, CFG, 0.06, (towering,), 0.005,
+    why = box_grasp_blocked(track_of(0, cube), cloud, g, HAND, GRASP, CFG, 0.06, Neighbours((towering,)), 0.005,
                             planner_hand_spheres(0.04))
-    assert bool(why) == refused and (not why or "neighbour's box" in why)
+    assert bool(why) == refused and (not why or "meets a neighbour" in why)
 
 
 def test_the_source_offers_a_box_grasp_only_where_its_fingers_come_down_free():
@@ -316,3 +316,48 @@ def test_the_source_with_the_planners_model_leaves_out_a_box_grasp_the_planner_w
     offered = GeometricGraspSource(GRASP, HAND, CFG, MotionConfig()).from_box(req)
     assert len(GeometricGraspSource(GRASP, HAND, CFG).from_box(req)) == 2  # points only: both
     assert len(offered) == 1 and abs(np.asarray(offered[0].R)[0, 2]) > 0.99  # closing along x
+
+
+def _bottle_top(cx, cy, r_m, h_m):
+    """The top disc of an upright bottle as the camera sees it from above."""
+    a, rr = np.meshgrid(np.linspace(0, 2 * np.pi, 120), np.linspace(0, r_m, 15))
+    return np.c_[cx + (rr * np.cos(a)).ravel(), cy + (rr * np.sin(a)).ravel(), np.full(a.size, h_m)]
+
+
+def test_a_neighbour_modelled_by_its_points_frees_the_empty_corner_of_its_box():
+    """A 200 mm bottle standing diagonally beyond the cube's corner: its box's corner takes the
+    hand's path on every line; its points (the planner's columns under them) leave lines free."""
+    from grasp_pipeline.motion.object_points import column_tops
+    spheres = planner_hand_spheres(0.04)
+    cube = block(0.50, 0.54, 0.00, 0.04, 0.0, 0.06)
+    top = _bottle_top(0.60, 0.10, 0.03, 0.20)
+    cloud = scene((0, cube), (ENV, table()), (1, top))
+    box = OrientedBox(np.array([0.60, 0.10, 0.10]), np.eye(3), np.array([0.06, 0.06, 0.20]))
+    grid = (0.005 + 0.0043, 0.005, 0.05)
+
+    def free(neighbours):
+        lines = fit_lines(track_of(0, cube), cloud, HAND, GRASP, CFG, 0.005, 0.06, neighbours, 0.005,
+                          spheres, grid)
+        return {(ln.axis, round(ln.offset_m, 4)) for ln in lines if ln.ok}
+
+    as_box = free(Neighbours((box,)))
+    as_points = free(Neighbours((), column_tops(top, 0.005), 0.005 + 0.0043))
+    assert not as_box and as_points
+    assert free(Neighbours((box,), column_tops(top, 0.005), 0.005 + 0.0043)) <= as_box  # both: the box rules
+
+
+@pytest.mark.parametrize("x_m", [0.03, 0.036, 0.04, 0.05])
+def test_a_fitted_descent_clears_a_neighbours_points_as_the_planner_measures_them(x_m):
+    """Where the fit lets a hand sphere down beside a neighbour's column tops, the planner's
+    point obstacles (the columns under those tops) are its margin away."""
+    from grasp_pipeline.motion.object_points import ObjectPoints, column_tops, columns
+    from grasp_pipeline.orchestration.grasp_fit import HandSpheres, _sphere_need
+    r_m, margin_m, cell = 0.012, 0.005, 0.005
+    tops = column_tops(_bottle_top(0.0, 0.0, 0.025, 0.12), cell)
+    fine = 0.5 * np.sqrt(3.0) * cell
+    one = HandSpheres(np.zeros((1, 3)), np.zeros((1, 3)), np.array([r_m]))
+    need = _sphere_need(np.c_[tops, np.full(len(tops), margin_m + fine)], 0.0, x_m, 0.0, one)
+    planner_pts = ObjectPoints(columns(tops, UP, 0.0, cell), cell, pad_m=0.1)
+    z = max(need, 0.0) + np.linspace(0.0, 0.1, 41)
+    d = planner_pts.distance_m(np.c_[np.full(len(z), x_m), np.zeros(len(z)), z])
+    assert np.all(d - (r_m + margin_m) >= -1e-9)  # from the fit's height up, the planner agrees
