@@ -997,9 +997,9 @@ class ArmIK:
         """
 class CollisionScene:
     """
-    One perceived planning scene (immutable): distance field of the occupancy map, object boxes, floor, margins, and the optional target-cleared region.
+    One perceived planning scene (immutable): distance field of the occupancy map, object boxes, floor, margins, the optional target-cleared region and the optional object points (neighbours modelled by their points; same dict as cleared, inflation 0).
     """
-    def __init__(self, collision_margin_m: float, floor_z_m: float, has_env: bool = False, field_m: numpy.typing.ArrayLike | None = None, origin_m: numpy.typing.ArrayLike | None = None, voxel_size_m: float = 1.0, inflation_m: float = 0.0, box_centers_m: numpy.typing.ArrayLike | None = None, box_rotations: numpy.typing.ArrayLike | None = None, box_extents_m: numpy.typing.ArrayLike | None = None, cleared: dict[str, typing.Any] | None = None) -> None:
+    def __init__(self, collision_margin_m: float, floor_z_m: float, has_env: bool = False, field_m: numpy.typing.ArrayLike | None = None, origin_m: numpy.typing.ArrayLike | None = None, voxel_size_m: float = 1.0, inflation_m: float = 0.0, box_centers_m: numpy.typing.ArrayLike | None = None, box_rotations: numpy.typing.ArrayLike | None = None, box_extents_m: numpy.typing.ArrayLike | None = None, cleared: dict[str, typing.Any] | None = None, points: dict[str, typing.Any] | None = None) -> None:
         ...
     @property
     def num_boxes(self) -> int:
