@@ -128,6 +128,28 @@ TEST(StateChecker, BoxesAndDistanceField) {
   EXPECT_FALSE(c.check(q_of(0, 0).data()));                  // 6 cm < r + margin + inflation
 }
 
+TEST(StateChecker, ObjectPointsBlockEverySphereWithinMarginAndRounding) {
+  // one object cell 6.2 cm from the tool: clear (r + margin + fine = 5.93 cm); at 5.8 cm: not.
+  // Object points are never cleared: target contact allowed changes nothing for them.
+  const Vec3 tool(kLinkA_m + kTool_m, 0, kBaseZ_m);
+  const double fine = 0.5 * std::sqrt(3.0) * 0.005;
+  auto with_point = [&](double gap_m) {
+    auto s = free_scene();
+    const Vec3 p = tool + Vec3(0.0, gap_m, 0.0);
+    s->points = ClearedRegion(ObstacleBox(p, Mat3::Identity(), Vec3::Zero()), 0.1, {p}, fine, 0.0);
+    s->has_points = true;
+    return s;
+  };
+  StateChecker c = checker(with_point(0.062));
+  EXPECT_TRUE(c.check(q_of(0, 0).data()));
+  c.set_scene(with_point(0.058));
+  EXPECT_FALSE(c.check(q_of(0, 0).data()));
+  c.set_allow_target_contact(true);
+  EXPECT_FALSE(c.check(q_of(0, 0).data()));
+  c.set_scene(with_point(0.22));  // far from every sphere
+  EXPECT_TRUE(c.check(q_of(0, 0).data()));
+}
+
 TEST(StateChecker, SegmentFindsAnObstacleBetweenValidEnds) {
   auto scene = free_scene();
   scene->boxes.emplace_back(Vec3(kLinkA_m + kTool_m, 0, kBaseZ_m), Mat3::Identity(), Vec3::Constant(0.02));
