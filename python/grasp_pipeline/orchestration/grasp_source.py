@@ -120,6 +120,7 @@ class GeometricGraspSource:
         self.spheres = None if motion is None else planner_hand_spheres(motion.sphere_cell_m)
         # neighbours seen well enough are the planner's point obstacles
         self.points_model = None if motion is None else PointModel.from_motion(motion)
+        self._last_neighbours: Optional[tuple] = None  # (request, its Neighbours)
         # environment points as the planner holds them near the target: on its fine grid,
         # kept at its margin plus that grid's rounding (OccupancyMap.with_cleared_region)
         self.env_grid = (0.0, 0.005, 0.0) if motion is None else (
@@ -127,7 +128,15 @@ class GeometricGraspSource:
             cleared_cell_m(float(motion.voxel_size_m)), float(motion.target_ignore_padding_m))
 
     def _neighbours(self, request: GraspRequest) -> Neighbours:
-        """The other objects as the planner will model them (boxes, or points where seen)."""
+        """The other objects as the planner will model them (boxes, or points where seen);
+        computed once per request (the fitted lines and the box grasps share it)."""
+        if self._last_neighbours is not None and self._last_neighbours[0] is request:
+            return self._last_neighbours[1]
+        nb = self._model_neighbours(request)
+        self._last_neighbours = (request, nb)
+        return nb
+
+    def _model_neighbours(self, request: GraspRequest) -> Neighbours:
         tid = int(request.target.tid)
         scene = request.scene.without_fragments(tid, self.config.fragment_margin_m)
         if self.points_model is None:
