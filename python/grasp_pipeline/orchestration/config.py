@@ -74,6 +74,7 @@ class GraspConfig:
     gripper_goal_tolerance_m: float = 0.001
     stall_speed_mps: float = 0.005
     stall_time_s: float = 0.5
+    stall_gap_band_m: float = 0.0005
     close_timeout_s: float = 8.0
     fully_closed_gap_m: float = 0.004
     held_gap_drop_m: float = 0.003

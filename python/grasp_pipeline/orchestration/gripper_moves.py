@@ -5,8 +5,10 @@ Everything here reads only the :class:`~grasp_pipeline.robot.protocols.Gripper` 
 
 * :func:`wait_gap` — wait until the measured gap is within tolerance of a target;
 * :func:`close_until_stall` — close on an object until the fingers *stall* (speed below
-  ``stall_speed_mps`` for ``stall_time_s``); reaching the commanded gap, closing fully or
-  stalling without force means nothing is held;
+  ``stall_speed_mps`` for ``stall_time_s``, or — ours — the gap held within
+  ``stall_gap_band_m`` for ``stall_time_s``: pads pressing a thin or light object chatter,
+  and their speed reading jumps above the threshold while the gap stands still); reaching the
+  commanded gap, closing fully or stalling without force means nothing is held;
 * :func:`watch_held` — wrap a motion so that a drop (:func:`hold_lost`: the gap fell
   ``held_gap_drop_m`` below the stall gap *and* the squeeze force fell below
   ``held_min_force_N``) aborts it at once.
@@ -15,6 +17,8 @@ Everything here reads only the :class:`~grasp_pipeline.robot.protocols.Gripper` 
 from __future__ import annotations
 
 import logging
+
+from collections import deque
 
 from ..exceptions import GraspPipelineError
 from .config import GraspConfig
@@ -45,28 +49,54 @@ def close_command_m(width_m: float, config: GraspConfig) -> float:
     return max(0.0, 2.0 * config.close_command_fraction * width_m - config.close_squeeze_m)
 
 
-def _stalled(robot, t0_s: float, slow_since, config: GraspConfig):
-    """(stalled now?, updated slow-since time)."""
-    speed = abs(robot.finger_speed_mps)
-    if speed < config.stall_speed_mps and robot.time_s - t0_s > config.stall_time_s:
-        slow_since = robot.time_s if slow_since is None else slow_since
-        return robot.time_s - slow_since >= config.stall_time_s, slow_since
-    return False, None
+class StallWatch:
+    """Whether the closing fingers have stalled, from the gripper's gap and speed readings.
+
+    SPEC 7: speed below ``stall_speed_mps`` for ``stall_time_s``. Ours: also when the gap
+    stayed within ``stall_gap_band_m`` over the last ``stall_time_s`` — a still gap whose speed
+    reading chatters. Neither counts before ``stall_time_s`` has passed since the command."""
+
+    def __init__(self, t0_s: float, config: GraspConfig):
+        self.t0_s, self.config = t0_s, config
+        self.slow_since: float | None = None
+        self.gaps: deque = deque()  # (time [s], gap [m]): the last stall_time_s and one before
+
+    def update(self, time_s: float, gap_m: float, speed_mps: float) -> bool:
+        """Record one reading; True once stalled."""
+        cfg = self.config
+        self.gaps.append((time_s, gap_m))
+        while len(self.gaps) > 1 and self.gaps[1][0] <= time_s - cfg.stall_time_s:
+            self.gaps.popleft()
+        if time_s - self.t0_s <= cfg.stall_time_s:
+            return False
+        if abs(speed_mps) < cfg.stall_speed_mps:
+            self.slow_since = time_s if self.slow_since is None else self.slow_since
+            if time_s - self.slow_since >= cfg.stall_time_s:
+                return True
+        else:
+            self.slow_since = None
+        return self._gap_still(time_s)
+
+    def _gap_still(self, time_s: float) -> bool:
+        if time_s - self.gaps[0][0] < self.config.stall_time_s:
+            return False  # readings do not span the window yet
+        gaps = [g for _, g in self.gaps]
+        return max(gaps) - min(gaps) <= self.config.stall_gap_band_m
 
 
 def close_until_stall(robot, width_m: float, config: GraspConfig):
     """Task: close on an object of ``width_m``; returns the stall gap [m]."""
     cmd = close_command_m(width_m, config)
     robot.set_gripper(cmd, effort_N=config.close_effort_N)
-    t0, slow_since = robot.time_s, None
+    t0 = robot.time_s
+    watch = StallWatch(t0, config)
     while True:
         yield
         gap = robot.finger_gap_m
         if abs(gap - cmd) <= config.gripper_goal_tolerance_m:
             raise StageFailure(f"fingers reached the commanded {cmd * 1e3:.1f} mm without "
                                "stalling on the object (missed or much narrower)")
-        stalled, slow_since = _stalled(robot, t0, slow_since, config)
-        if stalled:
+        if watch.update(robot.time_s, gap, robot.finger_speed_mps):
             break
         if robot.time_s - t0 > config.close_timeout_s:
             raise StageFailure(f"close timed out after {config.close_timeout_s} s "
