@@ -38,6 +38,7 @@ SECTIONS: Mapping[str, tuple[str, str]] = MappingProxyType({
     "grasp": ("grasp_pipeline.orchestration.config", "GraspConfig"),
     "declutter": ("grasp_pipeline.orchestration.config", "DeclutterConfig"),
     "grasp_fit": ("grasp_pipeline.orchestration.config", "GraspFitConfig"),
+    "grasp_sampler": ("grasp_pipeline.orchestration.grasping.config", "SamplerConfig"),
     "video": ("grasp_pipeline.report.config", "VideoConfig"),
     "language": ("grasp_pipeline.language.config", "LanguageConfig"),
     "rerun": ("grasp_pipeline.report.config", "RerunConfig"),

@@ -110,6 +110,7 @@ def _targets(system: System, settings: Settings, report: RunReport, select, roug
 def _stages(system: System, settings: Settings, report: RunReport, snapshots, select,
             scan: bool, place: bool, source: GraspSource, declutter: bool = False,
             pick: Sequence[str] = ()) -> None:
+    system.loop.width_guard = bool(getattr(source, "top_down_only", True))
     observations = None
     if pick:
         from ..language import ObservationRecorder
@@ -240,8 +241,14 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
 
 
 def default_grasp_source(settings: Settings) -> GraspSource:
-    """The geometric grasp (SPEC 3, fitted to the perceived points: ``grasp_fit``)."""
-    return GeometricGraspSource(settings.grasp, fit=settings.grasp_fit, motion=settings.motion)
+    """The grasp source ``grasp.grasp_source`` names: ``any_side`` — grasps from any side
+    within the sampler's tilt limit (:class:`~grasp_pipeline.orchestration.grasping.any_side.AnySideGraspSource`);
+    ``top_down`` — SPEC 3's top-down grasp fitted to the perceived points (``grasp_fit``)."""
+    if settings.grasp.grasp_source == "top_down":
+        return GeometricGraspSource(settings.grasp, fit=settings.grasp_fit, motion=settings.motion)
+    from ..orchestration.grasping.any_side import AnySideGraspSource
+
+    return AnySideGraspSource(settings.grasp_sampler, settings.grasp, settings.grasp_fit, settings.motion)
 
 
 def _finish(system: System, report: RunReport, recorders, wall0: float, json_path) -> None:

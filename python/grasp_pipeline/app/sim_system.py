@@ -20,7 +20,7 @@ from ..sim.world import SimWorld
 
 #: The parameter sets a simulated run uses.
 SECTIONS = ("scene_filter", "obb", "camera", "sim", "clutter", "motion", "scan", "grasp",
-            "grasp_fit", "declutter", "video", "language", "rerun")
+            "grasp_fit", "grasp_sampler", "declutter", "video", "language", "rerun")
 
 
 @dataclass

@@ -120,7 +120,7 @@ def _grasp_motions(system, rec: _Recorder, track, settings) -> None:
         T_lift = planned.T_grasp.copy()
         T_lift[:3, 3] -= cfg.lift_height_m * planned.approach_axis
         rec.plan("lift", lambda: motion.plan_line(T_lift, allow_target_contact=True), fingers)
-    motion.set_target(None)
+    motion.set_touchable(None)
     rec.plan("grasp_return", lambda: motion.planner.plan_to_joints(motion.q_cmd, system.start_q))
 
 

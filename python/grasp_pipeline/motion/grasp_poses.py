@@ -37,11 +37,13 @@ def tcp_rotation(approach: np.ndarray, closing: np.ndarray,
 
 
 def tcp_pose_from_grasp(grasp, reference_tcp: np.ndarray | None = None) -> np.ndarray:
-    """TCP pose (4x4) of a ``BestGrasp`` (position = contact point, rotation column 0 =
-    approach into the object, column 2 = closing axis)."""
+    """TCP pose (4x4) of a grasp (position = contact point, rotation column 0 = approach into
+    the object, column 2 = closing axis): the grasp's own ``tcp_R`` when its source chose the
+    hand orientation, else the closing sign nearer ``reference_tcp``."""
     R = np.asarray(grasp.R, dtype=float)
     T = np.eye(4)
-    T[:3, :3] = tcp_rotation(R[:, 0], R[:, 2], reference_tcp)
+    chosen = getattr(grasp, "tcp_R", None)
+    T[:3, :3] = tcp_rotation(R[:, 0], R[:, 2], reference_tcp) if chosen is None else chosen
     T[:3, 3] = np.asarray(grasp.position, dtype=float)
     return T
 

@@ -102,6 +102,15 @@ class MotionPlanner:
         self.last_scene_ms = (time.perf_counter() - t0) * 1e3
         return self.env
 
+    def set_objects(self, object_boxes: list[OrientedBox], object_tops: list | None = None,
+                    target_index: int | None = None) -> None:
+        """Replace the object boxes (and their column tops, same order) keeping the
+        occupancy map of the last :meth:`set_scene`."""
+        self.boxes = list(object_boxes)
+        tops = list(object_tops or [])
+        self.object_tops = tops + [None] * (len(self.boxes) - len(tops))
+        self.set_target(target_index)
+
     def set_target(self, target_index: int | None) -> None:
         """Choose the grasp target among the object boxes (None: every box is an obstacle)."""
         if target_index is not None and not (0 <= target_index < len(self.boxes)):

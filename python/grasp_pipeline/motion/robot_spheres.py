@@ -112,19 +112,54 @@ class RobotSpheres:
         self.model = model
         self.arm_idx = rm.arm_qpos_indices(model)
         self.kin = ChainKinematics(model, self.arm_idx)
-        self.spheres = fit_spheres(model, cell_m)
+        self.robot_spheres = fit_spheres(model, cell_m)
+        self.spheres = self.robot_spheres
+        self.attached_name: str | None = None
+        self.version = 0  # bumped whenever the sphere set changes (attach / detach)
         self.self_margin_m = float(self_margin_m)
         self.fixed_qpos = np.array(model.qpos0, dtype=float)
         self._data = mujoco.MjData(model)
         self.set_finger_opening(finger_opening_m)
+        self.group = np.array([self._group(b) for b in range(model.nbody)])
+        self._structure()
+
+    def _structure(self) -> None:
+        """Masks, self-collision pairs and body count of the current sphere set."""
         sb = self.spheres.body
         self.env_mask = self.kin.moving[sb]
-        flange = model.body(rm.FLANGE_BODY).id
-        link7 = int(model.body_parentid[flange])
-        self.hand_mask = np.array([self._in_subtree(b, link7) for b in sb])
-        self.group = np.array([self._group(b) for b in range(model.nbody)])
+        flange = self.model.body(rm.FLANGE_BODY).id
+        link7 = int(self.model.body_parentid[flange])
+        self.hand_mask = np.array([self._in_subtree(int(b), link7) for b in sb])
         self._bodies_needed = int(sb.max()) + 1
         self._build_pairs()
+
+    def attach(self, name: str, centres_hand: np.ndarray, radii: np.ndarray) -> None:
+        """Carry spheres (``centres_hand`` (M, 3) in the hand body's frame, ``radii`` (M,))
+        with the hand: an object held between the fingers, checked like the hand itself
+        (against the environment, and against the arm's other links)."""
+        c = np.asarray(centres_hand, dtype=float).reshape(-1, 3)
+        r = np.asarray(radii, dtype=float).reshape(-1)
+        if len(c) != len(r) or not (np.all(np.isfinite(c)) and np.all(np.isfinite(r)) and np.all(r > 0)):
+            raise ValueError("attach: centres (M, 3) and positive radii (M,) of one length expected")
+        hand = self.model.body(rm.HAND_BODY).id
+        base = self.robot_spheres
+        geom = int(self.model.ngeom)  # a geom id of its own, past the model's geoms
+        self.spheres = SphereSet(np.r_[base.body, np.full(len(r), hand)], np.vstack([base.center_local, c]),
+                                 np.r_[base.radius, r], np.r_[base.geom, np.full(len(r), geom)])
+        self.attached_name = str(name)
+        self.version += 1
+        self._structure()
+
+    def detach(self) -> str | None:
+        """Drop the attached spheres; returns the name of what was attached (None: nothing)."""
+        name = self.attached_name
+        if name is None:
+            return None
+        self.spheres = self.robot_spheres
+        self.attached_name = None
+        self.version += 1
+        self._structure()
+        return name
 
     # ------------------------------------------------------------------ structure
     def _in_subtree(self, b: int, root: int) -> bool:
@@ -178,7 +213,7 @@ class RobotSpheres:
                 I, J = I[~rm_mask], J[~rm_mask]
         # group sphere pairs by geom pair (for the two-level check)
         sg = self.spheres.geom
-        ng = int(m.ngeom)
+        ng = int(m.ngeom) + 1  # one more: an attached object's spheres
         a, b = np.minimum(sg[I], sg[J]), np.maximum(sg[I], sg[J])
         key = a * ng + b
         order = np.argsort(key, kind="stable")

@@ -45,27 +45,44 @@ class StateValidator:
         self.config = config
         self.q_min = np.asarray(rm.PANDA_Q_MIN, dtype=float)
         self.q_max = np.asarray(rm.PANDA_Q_MAX, dtype=float)
-        sph = robot.spheres
-        self._env_idx = np.nonzero(robot.env_mask)[0]
-        self._env_r = sph.radius[self._env_idx]
-        self._env_hand = robot.hand_mask[self._env_idx]
+        self._sphere_masks()
         self._checked_before = 0
         self._core_gap_m: float | None = None
+        self._core_version = -1
         self._core = None
         self._scene = None
         self._allow_target = False
         self.set_scene(env, boxes or [], target_box)
 
+    def _sphere_masks(self) -> None:
+        sph = self.robot.spheres
+        self._env_idx = np.nonzero(self.robot.env_mask)[0]
+        self._env_r = sph.radius[self._env_idx]
+        self._env_hand = self.robot.hand_mask[self._env_idx]
+        self._masks_version = self.robot.version
+        if hasattr(self, "env"):
+            self._thresholds()
+
+    def _thresholds(self) -> None:
+        env = self.env
+        self._env_thr = self._env_r + self.config.collision_margin_m + (env.inflation_m if env else 0.0)
+        self._box_thr = self._env_r + self.config.collision_margin_m
+
     # ------------------------------------------------------------------ C++ checker
     def core(self):
-        """The ``_core.StateChecker`` of the current scene (rebuilt after a finger-opening change)."""
-        if self._core is None or self._core_gap_m != self.robot.finger_opening_m:
+        """The ``_core.StateChecker`` of the current scene (rebuilt after a finger-opening
+        change or an attach / detach)."""
+        if self._masks_version != self.robot.version:
+            self._sphere_masks()
+        if self._core is None or self._core_gap_m != self.robot.finger_opening_m \
+                or self._core_version != self.robot.version:
             if self._core is not None:
                 self._checked_before += int(self._core.checked_states)
             model = core_checker.robot_model(self.robot, self.q_min, self.q_max)
             self._core = _core.StateChecker(model, self._scene)
             self._core.allow_target_contact = self._allow_target
             self._core_gap_m = self.robot.finger_opening_m
+            self._core_version = self.robot.version
         return self._core
 
     @property
@@ -109,8 +126,7 @@ class StateValidator:
         if env is not None and target_box is not None:
             self._env_cleared = env.with_cleared_region(
                 target_box.inflated(self.config.target_ignore_padding_m))
-        self._env_thr = self._env_r + self.config.collision_margin_m + (env.inflation_m if env else 0.0)
-        self._box_thr = self._env_r + self.config.collision_margin_m
+        self._thresholds()
         self._scene = core_checker.collision_scene(self.config, env, self.boxes, self._env_cleared,
                                                    self.points)
         if self._core is not None:
@@ -121,6 +137,8 @@ class StateValidator:
         """Per-state margins: limits ok (N,), self clearance (N,), env slack (N, Se),
         box slack (N, Se), floor slack (N, Se) and the sphere centres."""
         Q = np.atleast_2d(np.asarray(Q, dtype=float))
+        if self._masks_version != self.robot.version:
+            self._sphere_masks()
         lim_ok = np.all((Q >= self.q_min) & (Q <= self.q_max), axis=1)
         C = self.robot.centres(Q)
         self_min = self.robot.self_clearance_min(C)

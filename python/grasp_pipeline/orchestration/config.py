@@ -58,6 +58,10 @@ class ScanConfig:
         _positive(self, "dwell_frames", "select_verify_frames", allow_zero=True)
 
 
+#: The grasp sources ``grasp.grasp_source`` may name.
+GRASP_SOURCES = ("any_side", "top_down")
+
+
 @dataclass(frozen=True)
 class GraspConfig:
     """SPEC 7 grasp action and the PLACE stage (ours)."""
@@ -92,11 +96,15 @@ class GraspConfig:
     pick_timeout_s: float = 90.0
     table_clearance_m: float = 0.004
     palm_clearance_m: float = 0.01
+    grasp_source: str = "any_side"
 
     def validate(self) -> None:
         _positive(self, *(f.name for f in fields(self)
                           if f.name not in ("close_squeeze_m", "place_slot_dx_m", "place_slot_dy_m",
-                                            "approach_backoffs_m")))
+                                            "approach_backoffs_m", "grasp_source")))
+        if self.grasp_source not in GRASP_SOURCES:
+            raise ConfigError(f"GraspConfig.grasp_source = {self.grasp_source!r}: expected one of "
+                              f"{', '.join(GRASP_SOURCES)}")
         if not self.approach_backoffs_m or any(not 0 <= b <= 0.05 for b in self.approach_backoffs_m):
             raise ConfigError("GraspConfig.approach_backoffs_m: expected a non-empty list of "
                               "back-offs in [0, 0.05] m")

@@ -57,6 +57,20 @@ class GraspStage(enum.Enum):
     PLACE = "PLACE"
 
 
+def held_points(scene, k: int) -> np.ndarray:
+    """The points of object ``k`` of ``scene`` in the latest frame, each extended down to the
+    table (2.5-D: what is seen from above extends down to what it stands on)."""
+    from .grasping.target_model import fill_columns
+
+    own = np.asarray(scene.object_points[k], float).reshape(-1, 3) if k < len(scene.object_points) \
+        else np.zeros((0, 3))
+    if len(own) == 0 or scene.plane is None:
+        return own
+    n, c = np.asarray(scene.plane.n, float), float(scene.plane.c)
+    h = own @ n + c
+    return np.vstack([own, fill_columns(own, h, np.zeros((0, 3)), np.zeros(0), n, 0.01)])
+
+
 class GraspAction:
     """Runs one grasp (and place) at a time as a runtime task, with stage feedback.
 
@@ -80,6 +94,8 @@ class GraspAction:
         # tracks of objects already lifted off the table → where they were lifted from [m]
         self.picked_at: dict[int, np.ndarray] = {}
         self._target_height_m: Optional[float] = None  # measured height of the object in hand
+        self._target_tid: Optional[int] = None
+        self._target_points: Optional[np.ndarray] = None  # the target as perceived at the grasp
         self.backoff_m = 0.0  # how far above the contact point the executed grasp stopped [m]
         self.tcp_height_m: Optional[float] = None  # TCP above the table at the grasp [m]
 
@@ -158,6 +174,8 @@ class GraspAction:
         self.motion.set_scene(scene, target_tid)
         k = scene.index_of(target_tid)
         self._target_height_m = None if k is None else float(scene.boxes[k].extents[2])
+        self._target_tid = target_tid
+        self._target_points = None if k is None else held_points(scene, k)
         return target_tid, scene
 
     def _grasp(self, candidates: list, out: GraspOutcome):
@@ -188,13 +206,16 @@ class GraspAction:
         self._enter(out, GraspStage.LIFT)
         yield from self._lift(plan, out)
         yield from self._hold_check(out)
+        self._attach_held(plan)
 
     def _lift(self, plan: PlannedGrasp, out: GraspOutcome):
-        """Task: straight up by ``lift_height_m``; when the closed hand sits inside a
-        neighbour's clearance (the line's start is refused), straight up without the check."""
+        """Task: by ``lift_height_m`` along the table normal, whatever the approach (pulling
+        back along a tilted approach would drag the object over the table); when the closed
+        hand sits inside a neighbour's clearance (the line's start is refused), straight up
+        without the check."""
         cfg, motion = self.config, self.motion
         T_lift = plan.T_grasp.copy()
-        T_lift[:3, 3] -= cfg.lift_height_m * plan.approach_axis
+        T_lift[:3, 3] += cfg.lift_height_m * self._up()
         held = ContactAllowance.HELD_OBJECT
         try:
             yield from self.carrying(motion.line(T_lift, kind="lift", allow_target_contact=True,
@@ -203,6 +224,21 @@ class GraspAction:
             log.warning("lift line refused (%s); lifting straight up", exc)
             yield from self.carrying(motion.escape_up(cfg.lift_height_m, kind="lift", allowance=held),
                                      out, "LIFT")
+
+    def _up(self) -> np.ndarray:
+        """The table normal (world z before a plane is known)."""
+        plane = self.loop.plane
+        return np.array([0.0, 0.0, 1.0]) if plane is None else np.asarray(plane.n, dtype=float)
+
+    def _attach_held(self, plan: PlannedGrasp) -> None:
+        """Once lifted, the object moves with the hand in the planner's world: its perceived
+        points at the grasp (what was seen, extended down to what it stood on) fixed to the
+        hand at the grasp pose; no longer an obstacle where it stood."""
+        if self._target_points is None or not len(self._target_points):
+            return
+        name = f"object/{self._target_tid}"
+        n = self.motion.attach(name, self._target_points, plan.T_grasp)
+        log.info("holding %s: %d spheres attached to the hand in the planner's world", name, n)
 
     def _plan(self, candidates: list) -> PlannedGrasp:
         """:func:`plan_grasp` for the candidates; publishes a :class:`GraspEvent` (the chosen

@@ -1,10 +1,12 @@
 """Planning a grasp before any motion: PRE_GRASP and APPROACH for the first candidate that works.
 
 For each candidate grasp (in the source's order) and each back-off (``approach_backoffs_m``:
-the same grasp a little higher, still within the finger pads' reach), the TCP grasp pose is
-built (:func:`~grasp_pipeline.motion.grasp_poses.tcp_pose_from_grasp`, closing sign nearest
-the current hand), the pre-grasp ``pre_grasp_distance_m`` back along the approach is planned
-around the perceived scene and the straight approach line from there. Nothing moves until a
+the same grasp a little farther back along the approach, still within the finger pads' reach),
+the TCP grasp pose is built (:func:`~grasp_pipeline.motion.grasp_poses.tcp_pose_from_grasp`:
+the hand orientation the source chose, else the closing sign nearest the current hand); the
+straight approach line from the pre-grasp ``pre_grasp_distance_m`` back along the approach is
+planned backwards from the grasp pose (one IK branch), then the motion to the pre-grasp around
+the perceived scene (:meth:`~.motion_client.MotionClient.plan_approach`). Nothing moves until a
 pair is found. The grasp action and ``bench planning`` both use this.
 """
 
@@ -62,7 +64,8 @@ def grasp_tcp_poses(grasp, backoff_m: float, config: GraspConfig,
 
 def plan_grasp(motion, candidates: list, config: GraspConfig, reference_tcp: np.ndarray,
                max_width_m: float) -> PlannedGrasp:
-    """The first candidate × back-off whose pre-grasp and approach can both be planned.
+    """The first candidate × back-off whose approach and pre-grasp can both be planned
+    (:meth:`~.motion_client.MotionClient.plan_approach`).
 
     ``motion``: the :class:`~.motion_client.MotionClient` (scene already set, target marked).
     Both motions are checked with the fingers at the grasp's opening: the grasp action sets
@@ -75,8 +78,7 @@ def plan_grasp(motion, candidates: list, config: GraspConfig, reference_tcp: np.
         T_grasp, T_pre = grasp_tcp_poses(g, backoff, config, reference_tcp)
         motion.planner.set_finger_opening(opening_for(g, config, max_width_m))
         try:
-            traj_pre = motion.plan_pose(T_pre)
-            traj_app = motion.plan_line(T_grasp, q_from=traj_pre.q[-1], allow_target_contact=True)
+            traj_pre, traj_app = motion.plan_approach(T_grasp, T_pre)
         except MotionError as exc:
             errors.append(f"grasp {k + 1} (backoff {backoff * 1e3:.0f} mm): {exc}")
             log.info("grasp try %d of %d not plannable: %s", n, len(tries), exc)

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass
-from typing import Optional, Protocol, Sequence, runtime_checkable
+from typing import Callable, Optional, Protocol, Sequence, runtime_checkable
 
 import numpy as np
 
@@ -47,7 +47,10 @@ class GraspRequest:
     the selection published for it (SPEC 5) or None; ``scene``: the perceived scene (points,
     boxes); ``max_width_m``: the widest object the gripper can close on with its margin;
     ``cloud``: the scene's labelled points (:class:`~.scene_cloud.SceneCloud`) or None;
-    ``min_width_m``: the narrowest graspable width."""
+    ``min_width_m``: the narrowest graspable width; ``reach(grasp, pre_grasp_distance_m)``:
+    the grasp with the hand orientation the arm reaches, or None when it reaches neither
+    (:class:`~.grasping.reach.ArmReach`; None: not checked); ``unknown(points)``: True for
+    the points (N, 3) no camera has seen (None: not known)."""
 
     anchor_xy: tuple[float, float]
     target: Optional[object]
@@ -56,16 +59,23 @@ class GraspRequest:
     max_width_m: float
     cloud: Optional[SceneCloud] = None
     min_width_m: float = 0.005
+    reach: Optional[Callable] = None
+    unknown: Optional[Callable] = None
 
 
 @runtime_checkable
 class GraspSource(Protocol):
-    """Proposes grasps for one object, best first (an empty list: no grasp)."""
+    """Proposes grasps for one object, best first (an empty list: no grasp).
+
+    ``name`` names the source in reports. A source may also say ``top_down_only = True``
+    (it proposes only top-down grasps: the selection then keeps SPEC 2.6's width guard) and
+    keep ``last_refusal``, a sentence on why its last call proposed nothing."""
 
     name: str
 
     def propose(self, request: GraspRequest) -> list:
-        """``_core.BestGrasp`` candidates, best first."""
+        """Grasp candidates (:class:`~.grasping.grasp.Grasp`, or anything with ``R``,
+        ``position`` and ``width_m``), best first."""
 
 
 def planner_hand_spheres(cell_m: float) -> HandSpheres:
@@ -110,6 +120,8 @@ class GeometricGraspSource:
     where seen; hand spheres); None: only the points are checked."""
 
     name = "geometric"
+    #: proposes top-down grasps only: the selection keeps SPEC 2.6's width guard
+    top_down_only = True
 
     def __init__(self, config: Optional[GraspConfig] = None, hand: Optional[HandClearances] = None,
                  fit: Optional[GraspFitConfig] = None, motion=None):
@@ -210,6 +222,7 @@ class FixedGraspSource:
     """Grasps given up front; proposes those within ``radius_m`` of the anchor, nearest first."""
 
     name = "fixed"
+    top_down_only = False
 
     def __init__(self, grasps: Sequence, radius_m: float = 0.05) -> None:
         self.grasps = list(grasps)

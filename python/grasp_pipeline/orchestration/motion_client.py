@@ -17,11 +17,12 @@ from typing import Optional, Sequence
 
 import numpy as np
 
+from ..motion.exceptions import GoalInCollisionError, MotionError, PlanningFailedError
 from ..motion.executor import ExecutionReport, TrajectoryExecutor
 from ..motion.motion_planner import MotionPlanner
-from ..motion.object_points import PointModel
 from ..motion.occupancy import OrientedBox
 from ..motion.perceived_scene import PerceivedScene
+from ..motion.planning_world import PERCEIVED_PREFIX, PlanningWorld
 from ..motion.trajectory import JointPath, JointTrajectory
 from ..robot.protocols import ContactAllowance
 from .events import EventBus, PlanEvent
@@ -42,30 +43,89 @@ class MotionClient:
         self.planner = planner
         self.events = events if events is not None else EventBus()
         self.executor = TrajectoryExecutor(world, planner.config)
-        self.fixtures = list(fixtures)
+        self.planning_world = PlanningWorld(planner, fixtures)
         self.q_cmd = np.asarray(world.q, dtype=float).copy()
-        self.object_boxes: list[OrientedBox] = []
         self.plans: list[dict] = []  # log of every plan: kind, method, ms, duration
 
     # ---- scene ------------------------------------------------------------------
     def set_scene(self, scene: PerceivedScene, target_tid: Optional[int] = None) -> None:
-        """Perceived obstacles; the box of track ``target_tid`` is the target (no obstacle); the
-        other objects are modelled by their points where they were seen well enough, else by
-        their boxes (:class:`~grasp_pipeline.motion.object_points.PointModel`)."""
-        self.object_boxes = list(scene.boxes)
-        tops = scene.object_tops(PointModel.from_motion(self.planner.config))
-        self.planner.set_scene(scene.environment_points, self.object_boxes + self.fixtures,
-                               capture_q=scene.capture_q, target_index=scene.index_of(target_tid),
-                               object_tops=tops, plane=scene.plane)
+        """Perceived obstacles (:meth:`PlanningWorld.set_perceived`); the hand may touch the
+        object of track ``target_tid`` (the grasp target); the other objects are modelled by
+        their points where they were seen well enough, else by their boxes."""
+        pw = self.planning_world
+        pw.set_perceived(scene)
+        pw.allow_touching(None if target_tid is None or target_tid not in scene.tids
+                          else f"{PERCEIVED_PREFIX}{target_tid}")
+        pw.commit()
 
-    def set_target(self, target_index: Optional[int]) -> None:
-        self.planner.set_target(target_index)
+    def set_touchable(self, name: Optional[str]) -> None:
+        """The object the hand may touch (None: none) — pushed to the planner at once."""
+        self.planning_world.allow_touching(name)
+        self.planning_world.commit()
+
+    def attach(self, name: str, points_world: np.ndarray, T_world_tcp: np.ndarray) -> int:
+        """The hand holds the object ``name`` (its points at the TCP pose ``T_world_tcp``):
+        it moves with the hand in the planner's world (:meth:`PlanningWorld.attach`)."""
+        n = self.planning_world.attach(name, points_world, T_world_tcp)
+        self.planning_world.commit()
+        return n
+
+    def detach(self) -> Optional[str]:
+        """The hand holds nothing any more; returns what it held (None: nothing)."""
+        name = self.planning_world.detach()
+        if name is not None:
+            self.planning_world.commit()
+        return name
+
+    def add_obstacle(self, name: str, box: OrientedBox) -> None:
+        """A named obstacle the robot knows of without seeing it (e.g. what it placed)."""
+        self.planning_world.add_object(name, box)
+        self.planning_world.commit()
 
     # ---- motions (task generators returning an ExecutionReport) -------------------
     def plan_pose(self, T_world: np.ndarray, q_from: Optional[np.ndarray] = None,
                   frame: str = "tcp") -> JointTrajectory:
         """Plan (without moving) to a pose, from ``q_from`` (default: the commanded joints)."""
         return self.planner.plan_to_pose(self.q_cmd if q_from is None else q_from, T_world, frame)
+
+    def plan_joints(self, q_goal: np.ndarray, q_from: Optional[np.ndarray] = None) -> JointTrajectory:
+        """Plan (without moving) to joints ``q_goal`` from ``q_from`` (default: the commanded joints)."""
+        return self.planner.plan_to_joints(self.q_cmd if q_from is None else q_from,
+                                           np.asarray(q_goal, dtype=float))
+
+    def plan_approach(self, T_grasp: np.ndarray, T_pre: np.ndarray,
+                      tries: int = 3) -> tuple[JointTrajectory, JointTrajectory]:
+        """(pre-grasp trajectory, approach trajectory) of one grasp pose, planned without moving.
+
+        The approach line is planned first, *backwards*: from an IK solution of the grasp pose
+        along the straight line to the pre-grasp pose ``T_pre`` (each step seeded by the
+        previous one), so the whole approach stays on one IK branch — planning the pre-grasp
+        first could land on another branch than the grasp's (a tilted approach then needs a
+        joint jump on the way in). Then the joint-space motion from the commanded joints to the
+        line's start (valid without target contact). Up to ``tries`` collision-free grasp
+        solutions (target contact allowed), nearest the commanded joints first."""
+        planner, v = self.planner, self.planner.validator
+        sols = planner.solve_ik(T_grasp, self.q_cmd, "tcp").solutions
+        with _target_contact(v):
+            ok = v.check_batch(sols)
+        if not np.any(ok):
+            raise GoalInCollisionError(f"all {len(sols)} IK solutions of the grasp pose collide; "
+                                       f"nearest: {v.explain(sols[0])}")
+        errors = []
+        for q_g in sols[ok][:tries]:
+            try:
+                back = planner.plan_path_cartesian(q_g, T_pre, "tcp", allow_target_contact=True)
+                q_pre = back.waypoints[-1]
+                if not v.is_valid(q_pre):
+                    raise GoalInCollisionError(f"pre-grasp state invalid: {v.explain(q_pre)}")
+                traj_pre = self.plan_joints(q_pre)
+            except MotionError as exc:
+                errors.append(str(exc))
+                continue
+            path = JointPath(back.waypoints[::-1].copy(), back.planning_ms, "cartesian", 0,
+                             back.checked_states, back.cpu_ms)
+            return traj_pre, planner.time_path(path, allow_target_contact=True)
+        raise PlanningFailedError("no approach to the grasp pose: " + " | ".join(errors))
 
     def plan_line(self, T_world: np.ndarray, q_from: Optional[np.ndarray] = None, frame: str = "tcp",
                   allow_target_contact: bool = False) -> JointTrajectory:
@@ -125,3 +185,18 @@ class MotionClient:
         ``release_contacts``: contacts present at the start are tolerated (moving away)."""
         traj = self.planner.plan_cartesian(self.q_cmd, T_world, frame, allow_target_contact)
         return (yield from self._execute(kind, traj, allowance, release_contacts))
+
+
+class _target_contact:
+    """``with _target_contact(validator):`` — target contact allowed inside."""
+
+    def __init__(self, validator) -> None:
+        self.v = validator
+
+    def __enter__(self):
+        self.prev = self.v.allow_target_contact
+        self.v.allow_target_contact = True
+
+    def __exit__(self, *exc):
+        self.v.allow_target_contact = self.prev
+        return False

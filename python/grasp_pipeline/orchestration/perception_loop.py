@@ -39,7 +39,7 @@ from .config import GraspFitConfig, ScanConfig
 from .events import EventBus, FrameEvent, PerceptionEvent
 from .scene_cloud import SceneCloud, cloud_from_frame
 from .selection import Selector, SelectResult
-from .support import judge_graspable
+from .support import judge_any_side, judge_graspable
 from .tracks import nearest_track
 
 log = logging.getLogger("grasp_pipeline.perception_loop")
@@ -81,6 +81,9 @@ class PerceptionLoop:
             None if ready_camera_pose is None else np.array(ready_camera_pose, dtype=float))
         self._last_labels = ""
         self.stale_reported = False
+        #: SPEC 2.6's width guard in :meth:`judge` (off for grasp sources that approach from
+        #: any side; the composition root sets it from the source)
+        self.width_guard = True
 
     # ---- frames -------------------------------------------------------------------
     def on_frame(self, frame, q: Optional[np.ndarray] = None) -> None:
@@ -144,7 +147,11 @@ class PerceptionLoop:
 
     def judge(self, track) -> tuple[bool, list]:
         """(graspable, notes) of a track: SPEC 2.6's guards with the support rule on the
-        latest scene cloud (:func:`~.support.judge_graspable`)."""
+        latest scene cloud (:func:`~.support.judge_graspable`); without the width guard when
+        :attr:`width_guard` is off (a grasp source that approaches from any side decides
+        whether the hand fits, :func:`~.support.judge_any_side`)."""
+        if not self.width_guard:
+            return judge_any_side(track, self.scene_cloud(), self.fit_config)
         e = track.smoothed
         if e.grasp_ok or e.resting or not (e.height_ok and e.width_ok):
             return bool(e.grasp_ok), list(e.notes)

@@ -34,6 +34,7 @@ from ..results import PickResult
 from .events import PickEvent, StageEvent
 from .place import recover
 from .grasp_source import GeometricGraspSource, GraspRequest, GraspSource
+from .grasping.reach import ArmReach
 from .scene_model import snapshot
 from .selection import check_selection
 
@@ -108,11 +109,14 @@ def grasp_request(ctx: PickContext, xy, target) -> GraspRequest:
     """What the grasp source gets for the object ``target`` (a track) at ``xy``: the latest
     published grasp, the perceived scene and the scene's labelled points."""
     loop, s = ctx.loop, ctx.settings
+    motion = ctx.action.motion
+    reach = ArmReach(motion.planner, motion.q_cmd, ctx.rt.world.tcp_pose())
     return GraspRequest(anchor_xy=(float(xy[0]), float(xy[1])), target=target,
                         published=loop.selector.best_grasp,
                         scene=snapshot(loop, exclude_tids=ctx.action.lingering_tids()),
                         max_width_m=s.obb.gripper_open - s.grasp.open_margin_m,
-                        cloud=loop.scene_cloud(), min_width_m=s.obb.min_graspable_width)
+                        cloud=loop.scene_cloud(), min_width_m=s.obb.min_graspable_width,
+                        reach=reach)
 
 
 def _candidates(ctx: PickContext, xy, sel) -> list:
@@ -127,7 +131,8 @@ def _run_action(ctx: PickContext, xy, sel, row: PickResult):
         grasps = _candidates(ctx, xy, sel)
         if not grasps:
             row.failed_stage = "GRASP"
-            row.message = f"grasp source {ctx.source.name!r} proposed no grasp"
+            why = getattr(ctx.source, "last_refusal", "")
+            row.message = f"grasp source {ctx.source.name!r} proposed no grasp" + (f": {why}" if why else "")
             return None
         ok, msg = action.start(grasps[0], place=ctx.place, alternatives=grasps[1:])
         if not ok:

@@ -17,8 +17,7 @@ import logging
 import numpy as np
 
 from ..exceptions import GraspPipelineError
-from ..motion.exceptions import UnreachablePoseError
-from ..motion.grasp_poses import tcp_rotation
+from ..motion.exceptions import MotionError
 from ..robot.description import GRIPPER_MAX_WIDTH_M
 from ..robot.protocols import ContactAllowance
 from ..results import GraspOutcome
@@ -29,9 +28,6 @@ log = logging.getLogger("grasp_pipeline.grasp")
 
 HELD = ContactAllowance.HELD_OBJECT
 FINGERS = ContactAllowance.FINGERS
-#: Top-down approach and the world x axis: the tray's closing direction.
-_DOWN = np.array([0.0, 0.0, -1.0])
-_WORLD_X = np.array([1.0, 0.0, 0.0])
 
 
 def tray_slot(k: int, dx_m: float, dy_m: float) -> np.ndarray:
@@ -90,33 +86,64 @@ def _lower(action, out: GraspOutcome, T_above: np.ndarray, slot: np.ndarray):
         motion.sync()
 
 
+def place_orientations(R_hold: np.ndarray) -> list:
+    """TCP rotations to place with: the held orientation turned about the world vertical —
+    the object keeps the attitude it had on the table (it stood stably so), only its yaw
+    changes. First the smallest turn that brings the closing axis over world x (the tray's
+    slots leave room for the fingers along x: a top-down grasp then closes along x, as it
+    always did), then that turn + 180°, ±45°, ±90°, ±135°."""
+    R_hold = np.asarray(R_hold, dtype=float)
+    y = R_hold[:2, 1]
+    phi = float(np.arctan2(y[1], y[0])) if float(np.hypot(*y)) > 1e-6 else 0.0
+    base = -phi if abs(phi) <= np.pi / 2 else np.pi - phi  # onto +x or -x, whichever is nearer
+    base = (base + np.pi) % (2.0 * np.pi) - np.pi
+    out = []
+    for extra in np.radians([0.0, 180.0, 45.0, -45.0, 90.0, -90.0, 135.0, -135.0]):
+        c, s = np.cos(base + extra), np.sin(base + extra)
+        out.append(np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]) @ R_hold)
+    return out
+
+
+def _arrive(action, out: GraspOutcome, slot: np.ndarray):
+    """Task: carry the object above ``slot`` (orientations of :func:`place_orientations`,
+    then a lower arrival when the higher one is out of reach); returns the pose reached."""
+    cfg, robot, motion = action.config, action.robot, action.motion
+    errors = []
+    heights = sorted({arrival_height_m(action), cfg.place_height_m}, reverse=True)
+    for R in place_orientations(robot.tcp_pose()[:3, :3]):
+        for z in heights:
+            T_above = np.eye(4)
+            T_above[:3, :3], T_above[:3, 3] = R, slot + np.array([0.0, 0.0, z])
+            try:
+                traj = motion.plan_pose(T_above)
+            except MotionError as exc:  # far slots are near the arm's reach
+                errors.append(str(exc))
+                continue
+            yield from action.carrying(motion.execute("place", traj, HELD), out, "PLACE")
+            return T_above
+    raise PlacePlanningError("no way to carry the object above the tray slot: " + " | ".join(errors[:4]))
+
+
+class PlacePlanningError(GraspPipelineError):
+    """No orientation or height above the tray slot could be planned."""
+
+
 def place_in_tray(action, out: GraspOutcome):
     """Task: the PLACE stage of ``action`` (a :class:`~.grasp_action.GraspAction`)."""
     cfg, robot, motion = action.config, action.robot, action.motion
     cell = action.work_cell
     slot = cell.tray_center_m + tray_slot(action.placed_count, cfg.place_slot_dx_m, cfg.place_slot_dy_m)
-    T_above = np.eye(4)
-    T_above[:3, :3] = tcp_rotation(_DOWN, _WORLD_X, robot.tcp_pose())
-    motion.set_target(None)
+    motion.set_touchable(None)
     plane = action.loop.plane
     yield from _carry_up(action, out, plane.height_m if plane is not None else float(slot[2]))
-    for z in sorted({arrival_height_m(action), cfg.place_height_m}, reverse=True):
-        T_above[:3, 3] = slot + np.array([0.0, 0.0, z])
-        try:
-            yield from action.carrying(motion.to_pose(T_above, frame="tcp", kind="place",
-                                                      allowance=HELD), out, "PLACE")
-            break
-        except UnreachablePoseError as exc:  # far slots are near the arm's reach
-            if z <= cfg.place_height_m:
-                raise
-            log.warning("arriving %.0f mm above the tray floor is out of reach (%s); "
-                        "arriving at %.0f mm", z * 1e3, exc, cfg.place_height_m * 1e3)
+    T_above = yield from _arrive(action, out, slot)
     yield from _lower(action, out, T_above, slot)
     out.release_time_s = float(robot.time_s)
     # Open only a little beyond the object: fully open fingers could reach the tray walls.
     release_gap = min(GRIPPER_MAX_WIDTH_M, (out.stall_gap_m or 0.0) + cfg.open_margin_m)
     robot.set_gripper(release_gap, effort_N=cfg.close_effort_N)
     yield from wait_s(robot, cfg.release_wait_s)
+    _release_in_world(action)
     action.placed_count += 1
     motion.planner.set_finger_opening(max(release_gap, robot.finger_gap_m))
     yield from _leave_tray(action, T_above)
@@ -156,12 +183,18 @@ def _retreat(action):
             motion.sync()
 
 
+def _release_in_world(action) -> None:
+    """The planner's world after opening: the hand holds nothing any more."""
+    action.motion.detach()
+
+
 def recover(action):
     """Task: open, retreat upward, go home (best effort)."""
     cfg, robot, motion = action.config, action.robot, action.motion
     robot.set_gripper(GRIPPER_MAX_WIDTH_M, effort_N=cfg.close_effort_N)
     motion.sync()
     yield from wait_s(robot, cfg.release_wait_s)
+    _release_in_world(action)
     motion.planner.set_finger_opening(GRIPPER_MAX_WIDTH_M)
     yield from _retreat(action)
     if action.home_q is not None:

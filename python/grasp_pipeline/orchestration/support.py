@@ -129,3 +129,26 @@ def judge_graspable(track, cloud: Optional[SceneCloud], config: GraspFitConfig) 
     if verdict.supported:
         return True, []
     return False, [verdict.why] + [n for n in notes if not n.startswith(FLOATING_PREFIX)]
+
+
+WIDTH_NOTE_PREFIX = "width not graspable"
+
+
+def judge_any_side(track, cloud: Optional[SceneCloud], config: GraspFitConfig) -> tuple[bool, list[str]]:
+    """(graspable, notes) for a grasp source that may approach from any side: SPEC 2.6's
+    guards without the width guard (whether the hand fits the object from some side is the
+    source's question), with the support rule where the cloud allows."""
+    e = track.smoothed
+    notes = [n for n in e.notes if not n.startswith(WIDTH_NOTE_PREFIX)]
+    if not e.height_ok:
+        return False, notes
+    if e.resting:
+        return True, []
+    if cloud is None:
+        return False, notes
+    verdict = support_verdict(int(track.tid), cloud, config)
+    if verdict is None:
+        return False, notes
+    if verdict.supported:
+        return True, []
+    return False, [verdict.why] + [n for n in notes if not n.startswith(FLOATING_PREFIX)]

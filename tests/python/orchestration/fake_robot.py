@@ -136,6 +136,20 @@ class FakeMotion:
     def plan_line(self, T, q_from=None, frame="tcp", allow_target_contact=False):
         return FakeTrajectory(np.asarray(T))
 
+    def plan_approach(self, T_grasp, T_pre):
+        return FakeTrajectory(np.asarray(T_pre)), FakeTrajectory(np.asarray(T_grasp))
+
+    def set_touchable(self, name) -> None:
+        self.touchable = name
+
+    def attach(self, name, points_world, T_world_tcp) -> int:
+        self.attached = name
+        return len(points_world)
+
+    def detach(self):
+        name, self.attached = getattr(self, "attached", None), None
+        return name
+
     def execute(self, kind, traj, allowance=ContactAllowance.NONE):
         from grasp_pipeline.motion.exceptions import PlanningFailedError
 

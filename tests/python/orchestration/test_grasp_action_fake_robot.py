@@ -118,7 +118,7 @@ def test_unplannable_candidates_are_refused_before_any_motion():
     robot = FakeRobot()
 
     class NoPath(FakeMotion):
-        def plan_pose(self, T, q_from=None, frame="tcp"):
+        def plan_approach(self, T_grasp, T_pre):
             raise PlanningFailedError("blocked (fake)")
 
     out, motion = run_action(robot, top_down_grasp(), motion=NoPath(robot))

@@ -1,0 +1,138 @@
+"""The target as the grasp sampler sees it: its points, their normals, and the space the
+camera could not see under them.
+
+From one frame the camera sees an object's top and the sides facing it. The 2.5-D rule of
+the grasp checks (the same as the planner's model of the neighbours): what is seen from
+above extends straight down — each ``cell_m`` column holding the object's points is filled
+from its lowest seen point down to the table, or down to the highest surface seen under it
+(another object it lies on). The sampler closes the pads on this solid model; normals come
+only from the points the camera saw (the filled points have none).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ..scene_cloud import SceneCloud
+
+#: Points per normal estimate (the point and its nearest neighbours).
+NORMAL_NEIGHBOURS = 10
+
+
+@dataclass(frozen=True)
+class TargetModel:
+    """``points`` (N, 3) world [m]: the seen points (thinned) followed by the filled ones;
+    ``seen`` (N,) True for the first; ``normals`` (N, 3) unit outward normals of the seen
+    points (zero rows for the filled ones); ``centroid`` (3,) the centre of the object's area
+    seen from above at its mid height; ``heights_m`` (N,) above the table."""
+
+    points: np.ndarray
+    seen: np.ndarray
+    normals: np.ndarray
+    centroid: np.ndarray
+    heights_m: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.points)
+
+
+def estimate_normals(points: np.ndarray, viewpoint: np.ndarray, k: int = NORMAL_NEIGHBOURS) -> np.ndarray:
+    """(N, 3) unit normals of ``points`` by PCA over each point's ``k`` nearest neighbours,
+    oriented towards ``viewpoint`` (the camera that saw them)."""
+    pts = np.asarray(points, dtype=float)
+    n = len(pts)
+    if n < 3:
+        return np.zeros((n, 3))
+    k = min(k, n)
+    _, idx = cKDTree(pts).query(pts, k=k)
+    nb = pts[idx] - pts[idx].mean(axis=1, keepdims=True)
+    cov = np.einsum("nki,nkj->nij", nb, nb)
+    _, vecs = np.linalg.eigh(cov)
+    normals = vecs[:, :, 0]
+    flip = np.einsum("ni,ni->n", normals, np.asarray(viewpoint, float) - pts) < 0
+    normals[flip] *= -1.0
+    return normals
+
+
+def _cell_keys(points: np.ndarray, cell_m: float) -> np.ndarray:
+    ij = np.floor(points[:, :2] / cell_m).astype(np.int64)
+    return (ij[:, 0] + (1 << 24)) * (1 << 25) + (ij[:, 1] + (1 << 24))
+
+
+def thin(points: np.ndarray, cell_m: float) -> np.ndarray:
+    """Indices of one point per ``cell_m`` voxel (the first)."""
+    if len(points) == 0:
+        return np.zeros(0, dtype=np.int64)
+    ii = np.floor(points / cell_m).astype(np.int64)
+    _, first = np.unique(ii, axis=0, return_index=True)
+    return np.sort(first)
+
+
+def fill_columns(own: np.ndarray, own_h: np.ndarray, other: np.ndarray, other_h: np.ndarray,
+                 plane_n: np.ndarray, cell_m: float) -> np.ndarray:
+    """(K, 3) points filling each ``cell_m`` column of ``own`` (heights ``own_h`` above the
+    table) from its lowest seen point down to the table (height 0) or to the highest ``other``
+    point seen under it in that column, one every ``cell_m``."""
+    if len(own) == 0:
+        return np.zeros((0, 3))
+    keys = _cell_keys(own, cell_m)
+    ukeys, inv = np.unique(keys, return_inverse=True)
+    low = np.full(len(ukeys), np.inf)
+    np.minimum.at(low, inv, own_h)
+    anchor = np.zeros((len(ukeys), 3))
+    anchor_h = np.zeros(len(ukeys))
+    anchor[inv], anchor_h[inv] = own, own_h  # any point of a column stands for its (x, y)
+    stop = np.zeros(len(ukeys))
+    if len(other):
+        okeys = _cell_keys(other, cell_m)
+        pos = np.clip(np.searchsorted(ukeys, okeys), 0, len(ukeys) - 1)
+        below = (ukeys[pos] == okeys) & (other_h < low[pos] - cell_m)
+        np.maximum.at(stop, pos[below], other_h[below])
+    count = np.maximum(0, np.floor((low - stop) / cell_m).astype(np.int64))
+    rep = np.repeat(np.arange(len(ukeys)), count)
+    step = np.arange(len(rep)) - np.repeat(np.cumsum(count) - count, count) + 1
+    heights = low[rep] - step * cell_m
+    n = np.asarray(plane_n, dtype=float)
+    return anchor[rep] + (heights - anchor_h[rep])[:, None] * n
+
+
+def footprint_centroid(points: np.ndarray, heights: np.ndarray, plane_n: np.ndarray,
+                       cell_m: float) -> np.ndarray:
+    """The centre of the area ``points`` cover seen from above (their ``cell_m`` cells), at
+    their mid height: unlike the points' mean, not pulled towards the side the camera saw."""
+    keys, first = np.unique(_cell_keys(points, cell_m), return_index=True)
+    cells = points[first]
+    n = np.asarray(plane_n, dtype=float)
+    flat = cells - (heights[first])[:, None] * n
+    mid = 0.5 * (float(heights.min()) + float(heights.max()))
+    return flat.mean(axis=0) + mid * n
+
+
+def target_model(cloud: SceneCloud, tid: int, viewpoint: np.ndarray, cell_m: float,
+                 max_points: int, rng_seed: int = 0) -> TargetModel | None:
+    """The :class:`TargetModel` of track ``tid`` in ``cloud`` (None without points of it):
+    its seen points thinned to ``cell_m``, its hidden columns filled every ``2 cell_m``; at
+    most ``max_points`` points (a fixed-seed subsample beyond)."""
+    mask = cloud.owner == int(tid)
+    own = cloud.points[mask]
+    if len(own) < 3:
+        return None
+    normals = estimate_normals(own, viewpoint)
+    keep = thin(own, cell_m)
+    own, normals = own[keep], normals[keep]
+    own_h = cloud.heights_m(own)
+    other = cloud.points[~mask]
+    filled = fill_columns(own, own_h, other, cloud.heights_m(other), cloud.plane_n, 2.0 * cell_m)
+    if len(own) + len(filled) > max_points:
+        rng = np.random.default_rng(rng_seed)
+        budget = max(max_points - len(own), max_points // 2)
+        if len(filled) > budget:
+            filled = filled[np.sort(rng.choice(len(filled), budget, replace=False))]
+    pts = np.vstack([own, filled])
+    seen = np.r_[np.ones(len(own), bool), np.zeros(len(filled), bool)]
+    nrm = np.vstack([normals, np.zeros((len(filled), 3))])
+    h = cloud.heights_m(pts)
+    return TargetModel(pts, seen, nrm, footprint_centroid(own, own_h, cloud.plane_n, cell_m), h)
