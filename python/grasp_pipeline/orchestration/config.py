@@ -122,15 +122,15 @@ class DeclutterConfig:
     max_consecutive_failures: int = 2
     max_attempts: int = 20
     failed_anchor_radius_m: float = 0.03
-    order: str = "accessibility"
+    order: str = "score"
     free_space_enough_m: float = 0.03
 
     def validate(self) -> None:
         _positive(self, "max_consecutive_failures", "max_attempts")
         _positive(self, "failed_anchor_radius_m", "free_space_enough_m", allow_zero=True)
-        if self.order not in ("accessibility", "nearest"):
-            raise ConfigError(f"DeclutterConfig.order = {self.order!r}: expected 'accessibility' "
-                              "or 'nearest'")
+        if self.order not in ("score", "accessibility", "nearest"):
+            raise ConfigError(f"DeclutterConfig.order = {self.order!r}: expected 'score', "
+                              "'accessibility' or 'nearest'")
 
 
 @dataclass(frozen=True)

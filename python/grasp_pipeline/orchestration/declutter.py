@@ -86,11 +86,27 @@ def grasp_offer(ctx: PickContext, xy) -> int:
     return OFFER_OTHER if ctx.source.propose(request) else OFFER_NONE
 
 
+def best_score(ctx: PickContext, xy) -> float | None:
+    """The score of the source's best grasp of the object at ``xy`` (None: no grasp)."""
+    track, _ = nearest_track(ctx.loop.tracks(), xy)
+    if track is None:
+        return None
+    grasps = ctx.source.propose(grasp_request(ctx, xy, track))
+    return float(getattr(grasps[0], "score", 0.0)) if grasps else None
+
+
 def choose_order(ctx: PickContext, targets: list, failed_anchors: list, config: DeclutterConfig) -> list:
-    """The round's target order: by accessibility (or nearest first), objects without a grasp
-    fitted to their points after those with one (another object first: picking it may free
-    them), objects the source proposes no grasp for left out, failed places last."""
-    if config.order == "accessibility":
+    """The round's target order: with ``order: score`` and a source that scores its grasps
+    (not top-down only), the object with the best grasp first; else by accessibility (or
+    nearest first), objects without a grasp fitted to their points after those with one
+    (another object first: picking it may free them). Objects the source proposes no grasp
+    for are left out, failed places last."""
+    if config.order == "score" and not getattr(ctx.source, "top_down_only", True):
+        scored = [(best_score(ctx, t), k, t) for k, t in enumerate(targets)]
+        ranked = [t for s, _, t in sorted((x for x in scored if x[0] is not None),
+                                          key=lambda x: (-x[0], x[1]))]
+        return order_targets(ranked, failed_anchors, config.failed_anchor_radius_m)
+    if config.order in ("accessibility", "score"):
         s = ctx.settings
         targets = rank_by_accessibility(targets, ctx.loop.tracks(), hand_clearances(),
                                         s.grasp.open_margin_m, s.obb.gripper_open - s.grasp.open_margin_m,

@@ -124,3 +124,28 @@ def test_unplannable_candidates_are_refused_before_any_motion():
     out, motion = run_action(robot, top_down_grasp(), motion=NoPath(robot))
     assert out.failed_stage == "PRE_GRASP" and "no grasp candidate can be reached" in out.message
     assert [k for k, _ in motion.executed if k in ("pre_grasp", "approach")] == []
+
+
+def test_a_tilted_grasp_lifts_along_the_table_normal_not_back_along_its_approach():
+    """LIFT raises the object straight up from the table (the plane normal), whatever the
+    approach: pulling back along a 45° approach would drag the object over the table."""
+    from grasp_pipeline.orchestration.grasping.grasp import Grasp
+
+    tilt = np.radians(45.0)
+    approach = np.array([np.sin(tilt), 0.0, -np.cos(tilt)])
+    grasp = Grasp.from_axes(approach, [0.0, 1.0, 0.0], [0.5, 0.0, 0.225], 0.05, tilt_deg=45.0)
+    robot = FakeRobot(object_width_m=0.05)
+    lifts = []
+
+    class Recording(FakeMotion):
+        def line(self, T, frame="tcp", kind="line", **kw):
+            if kind == "lift":
+                lifts.append((self.robot.tcp.copy(), np.asarray(T, float).copy()))
+            return (yield from super().line(T, frame, kind, **kw))
+
+    out, _ = run_action(robot, grasp, motion=Recording(robot))
+    assert out.success, out.message
+    (start, goal), = lifts
+    moved = goal[:3, 3] - start[:3, 3]
+    assert moved == pytest.approx([0.0, 0.0, GraspConfig().lift_height_m], abs=1e-9)
+    assert goal[:3, :3] == pytest.approx(start[:3, :3])  # the hand keeps its attitude

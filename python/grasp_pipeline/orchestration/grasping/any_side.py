@@ -35,7 +35,8 @@ from ...motion.occupancy import cell_rounding_m, cleared_cell_m
 from ...motion.object_points import PointModel, columns
 from ..config import GraspConfig, GraspFitConfig
 from ..scene_cloud import ENVIRONMENT
-from .candidates import approach_directions, build_frames, closing_axes, normal_axes
+from .candidates import (approach_directions, approaches_across, build_frames, closing_axes,
+                         dominant_normals, normal_axes)
 from .clearance import ObstacleSet, hand_slack, palm_touches_target
 from .config import SamplerConfig
 from .contacts import OK, REASONS, ContactLimits, evaluate
@@ -82,9 +83,13 @@ class AnySideGraspSource:
         """:class:`~.grasp.Grasp` candidates of ``request.target``, best first."""
         t0 = time.perf_counter()
         try:
-            return self._propose(request)
+            grasps = self._propose(request)
         finally:
             self.last_timing_ms = (time.perf_counter() - t0) * 1e3
+        if not grasps:
+            tid = getattr(request.target, "tid", None)
+            log.info("#%s: no any-side grasp: %s", tid, self.last_refusal)
+        return grasps
 
     def _propose(self, request) -> list:
         self.last_refusal = ""
@@ -93,7 +98,8 @@ class AnySideGraspSource:
             self.last_refusal = "no points of the object in the latest frame"
             return []
         viewpoint = self._viewpoint(request)
-        target = target_model(cloud, int(track.tid), viewpoint, self.config.cell_m, self.config.max_points)
+        target = target_model(cloud, int(track.tid), viewpoint, self.config.cell_m, self.config.max_points,
+                              unknown=getattr(request, "unknown", None), max_cell_m=self.config.max_cell_m)
         if target is None:
             self.last_refusal = f"no points of #{track.tid} in the latest frame"
             return []
@@ -133,6 +139,11 @@ class AnySideGraspSource:
             if cfg.normal_axes and len(normals):
                 extra.append(normal_axes(a, normals))
             axes.append(np.vstack([closing_axes(a, cfg.rotations), *extra]))
+        faces = dominant_normals(target.normals[target.seen], cfg.normal_axes)
+        a2, t2, c2 = approaches_across(faces, plane_n, cfg.max_tilt_deg)
+        dirs = np.vstack([dirs, a2])
+        tilt = np.r_[tilt, t2]
+        axes += [c[None, :] for c in c2]
         return build_frames(target.points, target.centroid, dirs, tilt, axes, cfg.line_step_m, cfg.lines)
 
     def _limits(self, request) -> ContactLimits:
@@ -144,7 +155,8 @@ class AnySideGraspSource:
                              table_clearance_m=g.table_clearance_m,
                              min_material_points=f.min_material_points, contact_depth_m=f.contact_depth_m,
                              min_contact_fraction=f.min_contact_fraction, blocked_points=f.blocked_points,
-                             tolerance_m=f.column_tolerance_m, min_pad_overlap_m=f.min_pad_overlap_m)
+                             tolerance_m=f.column_tolerance_m, min_pad_overlap_m=f.min_pad_overlap_m,
+                             friction_cone_deg=self.config.friction_cone_deg)
 
     def _obstacles(self, request) -> ObstacleSet:
         cloud, track, scene = request.cloud, request.target, request.scene
@@ -260,6 +272,8 @@ class AnySideGraspSource:
             r = reach(g, self.grasp_config.pre_grasp_distance_m)
             if r is not None:
                 reached.append(r)
+                if len(reached) >= self.config.max_candidates:
+                    break
         if not reached:
             self.last_refusal = (f"none of the {min(len(grasps), self.config.reach_candidates)} best "
                                  "grasps is within the arm's reach")

@@ -95,6 +95,58 @@ def normal_axes(a: np.ndarray, normals: np.ndarray, min_norm: float = 0.5) -> np
     return c[keep] / norm[keep, None]
 
 
+def dominant_normals(normals: np.ndarray, count: int, min_share: float = 0.03) -> np.ndarray:
+    """Up to ``count`` dominant directions of ``normals`` (sign ignored: a closing axis has
+    none): each normal joins the nearest of 13 fixed directions (faces, edges and corners of
+    a cube, one per ± pair); the mean of every group holding at least ``min_share`` of them,
+    largest first."""
+    n = np.asarray(normals, dtype=float).reshape(-1, 3)
+    if len(n) == 0 or count <= 0:
+        return np.zeros((0, 3))
+    dirs = np.array([d for d in np.ndindex(3, 3, 3) if d != (1, 1, 1)], float) - 1.0
+    dirs = dirs[[tuple(d) > tuple(-d) for d in dirs]]
+    dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
+    dots = n @ dirs.T
+    group = np.argmax(np.abs(dots), axis=1)
+    signs = np.sign(dots[np.arange(len(n)), group])[:, None]
+    out = []
+    for g in np.argsort(-np.bincount(group, minlength=len(dirs))):
+        members = group == g
+        if members.sum() < max(1, min_share * len(n)) or len(out) >= count:
+            break
+        m = (signs[members] * n[members]).mean(axis=0)
+        if np.linalg.norm(m) > 1e-9:
+            out.append(m / np.linalg.norm(m))
+    return np.array(out).reshape(-1, 3)
+
+
+def approaches_across(axes: np.ndarray, plane_n, max_tilt_deg: float, turns_deg=(0.0, 25.0, -25.0, 50.0, -50.0)
+                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Antipodal candidates: for each closing axis in ``axes`` (a surface normal), the
+    approaches orthogonal to it — the most downward one, turned about the axis by each of
+    ``turns_deg`` — within ``max_tilt_deg`` of the table normal. Returns (approaches (M, 3),
+    their tilts [deg], their closing axes (M, 3))."""
+    n = np.asarray(plane_n, dtype=float)
+    n = n / np.linalg.norm(n)
+    A, T, C = [], [], []
+    for c in np.asarray(axes, dtype=float).reshape(-1, 3):
+        down = -n - float(-n @ c) * c
+        if np.linalg.norm(down) < 1e-6:
+            continue
+        down /= np.linalg.norm(down)
+        side = np.cross(c, down)
+        for t in np.radians(turns_deg):
+            a = np.cos(t) * down + np.sin(t) * side
+            tilt = float(np.degrees(np.arccos(np.clip(-(a @ n), -1.0, 1.0))))
+            if tilt <= max_tilt_deg + 1e-9:
+                A.append(a)
+                T.append(tilt)
+                C.append(c)
+    if not A:
+        return np.zeros((0, 3)), np.zeros(0), np.zeros((0, 3))
+    return np.array(A), np.array(T), np.array(C)
+
+
 def line_offsets(lo: np.ndarray, hi: np.ndarray, centre: np.ndarray, step_m: float,
                  count: int) -> tuple[np.ndarray, np.ndarray]:
     """Offsets along b of the lines across the object, per (approach, closing) pair: the

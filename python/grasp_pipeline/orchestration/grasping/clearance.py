@@ -48,8 +48,13 @@ class ObstacleSet:
     margin_m: float
 
     def trees(self):
-        return (cKDTree(self.fixed) if len(self.fixed) else None,
-                cKDTree(self.clearable) if len(self.clearable) else None)
+        """KD-trees of ``fixed`` and ``clearable`` (built once)."""
+        cached = self.__dict__.get("_trees")
+        if cached is None:
+            cached = (cKDTree(self.fixed) if len(self.fixed) else None,
+                      cKDTree(self.clearable) if len(self.clearable) else None)
+            object.__setattr__(self, "_trees", cached)
+        return cached
 
 
 def _query(tree, pts: np.ndarray, reach_m: float) -> np.ndarray:

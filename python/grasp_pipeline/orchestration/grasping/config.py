@@ -19,7 +19,8 @@ class SamplerConfig:
     lines: int = 3
     line_step_m: float = 0.008
     cell_m: float = 0.005
-    max_points: int = 600
+    max_points: int = 1200
+    max_cell_m: float = 0.009
     preselect: int = 40
     reach_candidates: int = 10
     max_candidates: int = 6
@@ -39,6 +40,7 @@ class SamplerConfig:
     weight_clearance: float = 0.5
     clearance_enough_m: float = 0.01
     unknown_max_fraction: float = 0.5
+    friction_cone_deg: float = 35.0
     weight_unknown: float = 1.0
 
     def validate(self) -> None:
@@ -53,13 +55,15 @@ class SamplerConfig:
                 raise ConfigError(f"SamplerConfig.{name} = {v}: expected an integer in [1, 100000]")
         if not 0 <= self.normal_axes <= 1000:
             raise ConfigError(f"SamplerConfig.normal_axes = {self.normal_axes}: expected 0-1000")
-        for name in ("line_step_m", "cell_m", "duplicate_distance_m", "max_raise_m", "centre_scale_m", "width_scale_m",
+        for name in ("line_step_m", "cell_m", "max_cell_m", "duplicate_distance_m", "max_raise_m", "centre_scale_m", "width_scale_m",
                      "clearance_enough_m"):
             v = getattr(self, name)
             if not 0.0 < v <= 0.5:
                 raise ConfigError(f"SamplerConfig.{name} = {v}: expected (0, 0.5] m")
         if not self.approach_checks_m or any(not 0.0 <= b <= 0.3 for b in self.approach_checks_m):
             raise ConfigError("SamplerConfig.approach_checks_m: expected distances in [0, 0.3] m")
+        if not 0.0 < self.friction_cone_deg < 90.0:
+            raise ConfigError("SamplerConfig.friction_cone_deg: expected (0, 90) deg")
         if not 0.0 < self.duplicate_angle_deg <= 90.0:
             raise ConfigError("SamplerConfig.duplicate_angle_deg: expected (0, 90] deg")
         if not 0.0 <= self.unknown_max_fraction <= 1.0:

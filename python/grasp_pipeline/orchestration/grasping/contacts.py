@@ -13,8 +13,10 @@ object's points are read in the frame's coordinates X = p·b, Y = p·c, Z = p·a
   width to close on (≤ ``max_width_m``), the pads centred on it;
 * **contacts**: at each end of that span the material within ``contact_depth_m`` must
   cover at least ``min_contact_fraction`` of the pad's width (an object's corner under a
-  pad's edge is no grip); the seen points there say how well the surface faces the pad
-  (antipodality: the mean |n·c| of their normals; 0.5 when no point there was seen);
+  pad's edge is no grip); where the camera saw the surface there, it must face the pad
+  within ``friction_cone_deg`` (the mean |n·c| of the seen points' normals, at each end;
+  a slanted face squeezed across slips out), and how well it does is the antipodality
+  (0.5 when neither end was seen);
 * **the fingers' way in**: the fingers, opened to width + ``open_margin_m``, sweep along
   ``a`` down to the pads' far edge; at most ``blocked_points`` of the object's points may
   lie in their way (a mug's handle, a wider part above the grasp).
@@ -31,10 +33,11 @@ from .hand_model import HandModel
 from .target_model import TargetModel
 
 #: Refusal codes of a frame (the reason strings, in this order, for reports).
-OK, NO_MATERIAL, TOO_WIDE, TABLE, EDGE_CONTACT, FINGER_BLOCKED = range(6)
+OK, NO_MATERIAL, TOO_WIDE, TABLE, EDGE_CONTACT, FINGER_BLOCKED, OUTSIDE_CONE = range(7)
 REASONS = ("ok", "no material between the pads", "too wide to close on",
            "the hand would meet the table", "a pad would touch the material only at its edge",
-           "a finger blocked by the object itself")
+           "a finger blocked by the object itself",
+           "a seen contact surface slants out of the friction cone")
 
 
 @dataclass(frozen=True)
@@ -53,6 +56,7 @@ class ContactLimits:
     blocked_points: int
     tolerance_m: float = 0.002
     min_pad_overlap_m: float = 0.012
+    friction_cone_deg: float = 35.0
 
 
 @dataclass(frozen=True)
@@ -81,11 +85,11 @@ class Contacts:
 
 
 def _masked_min(v: np.ndarray, m: np.ndarray) -> np.ndarray:
-    return np.where(m, v, np.inf).min(axis=0)
+    return np.min(v, axis=0, where=m, initial=np.inf)
 
 
 def _masked_max(v: np.ndarray, m: np.ndarray) -> np.ndarray:
-    return np.where(m, v, -np.inf).max(axis=0)
+    return np.max(v, axis=0, where=m, initial=-np.inf)
 
 
 def _lowest(nb: np.ndarray, nc: np.ndarray, na: np.ndarray, corners: np.ndarray) -> np.ndarray:
@@ -129,11 +133,11 @@ def _coverage(X, Y, mat, y_edge, sign, lim: ContactLimits, hand: HandModel):
 
 
 def _antipodal(normals_c: np.ndarray, seen: np.ndarray, near: np.ndarray) -> np.ndarray:
-    """(K,) mean |n·c| of the seen points in ``near``; 0.5 where none was seen."""
+    """(K,) mean |n·c| of the seen points in ``near``; NaN where none was seen."""
     m = near & seen[:, None]
     cnt = m.sum(axis=0)
     s = np.where(m, np.abs(normals_c), 0.0).sum(axis=0)
-    return np.where(cnt > 0, s / np.maximum(cnt, 1), 0.5)
+    return np.where(cnt > 0, s / np.maximum(cnt, 1), np.nan)
 
 
 def _fingers_blocked(X, Y, Z, x0, y_mid, z_tcp, opening, lim: ContactLimits, hand: HandModel):
@@ -150,12 +154,22 @@ def _fingers_blocked(X, Y, Z, x0, y_mid, z_tcp, opening, lim: ContactLimits, han
     return worst
 
 
+def _project(points: np.ndarray, frames: Frames):
+    """(X, Y, Z) (N, K) float32: the points in every frame's (b, c, a) coordinates, computed
+    once per (approach, closing) pair and spread to its lines."""
+    pairs, first = np.unique(frames.pair, return_index=True)
+    axes = np.concatenate([frames.b[first], frames.c[first], frames.a[first]]).T.astype(np.float32)
+    proj = points.astype(np.float32) @ axes  # (N, 3 P)
+    col = np.searchsorted(pairs, frames.pair)
+    n = len(pairs)
+    return proj[:, col], proj[:, n + col], proj[:, 2 * n + col]
+
+
 def evaluate(frames: Frames, target: TargetModel, hand: HandModel, lim: ContactLimits,
              plane_n: np.ndarray, plane_c: float, depth_cap=None) -> Contacts:
     """The contact checks of every frame (module doc); ``depth_cap`` (K,): the TCP goes no
     deeper than this (a hand raised to clear a neighbour)."""
-    P = target.points.astype(np.float32)
-    X, Y, Z = (P @ v.T.astype(np.float32) for v in (frames.b, frames.c, frames.a))
+    X, Y, Z = _project(target.points, frames)
     x0 = frames.x0
     strip = np.abs(X - x0[None, :]) <= hand.pad_half_width_m
     palm = np.abs(X - x0[None, :]) <= hand.pad_half_width_m + 0.025
@@ -178,8 +192,12 @@ def evaluate(frames: Frames, target: TargetModel, hand: HandModel, lim: ContactL
     opening = np.minimum(width + lim.open_margin_m, lim.max_opening_m)
     cov_hi, near_hi = _coverage(X, Y, mat, y_hi, 1.0, lim, hand)
     cov_lo, near_lo = _coverage(X, Y, mat, y_lo, -1.0, lim, hand)
-    nc = target.normals @ frames.c.T
-    anti = 0.5 * (_antipodal(nc, target.seen, near_hi) + _antipodal(nc, target.seen, near_lo))
+    nc = (target.normals @ frames.c.T).astype(np.float32)
+    every = np.ones(len(target.points), dtype=bool)  # seen and inferred normals alike
+    ends = np.stack([_antipodal(nc, every, near_hi), _antipodal(nc, every, near_lo)])
+    known = np.isfinite(ends)
+    outside_cone = np.any(known & (np.nan_to_num(ends) < np.cos(np.radians(lim.friction_cone_deg))), axis=0)
+    anti = np.where(known.any(axis=0), np.where(known, ends, 0.0).sum(axis=0) / np.maximum(known.sum(axis=0), 1), 0.5)
     blocked = _fingers_blocked(X, Y, Z, x0, y_mid, z_tcp, opening, lim, hand)
     pad_lo, pad_hi = z_tcp - hand.pad_half_length_m, z_tcp + hand.pad_half_length_m
     overlap = np.clip((np.minimum(pad_hi, z_last) - np.maximum(pad_lo, z_first))
@@ -187,6 +205,7 @@ def evaluate(frames: Frames, target: TargetModel, hand: HandModel, lim: ContactL
     overlap = np.nan_to_num(overlap)
     code = np.full(len(frames), OK)
     code[blocked > lim.blocked_points] = FINGER_BLOCKED
+    code[outside_cone] = OUTSIDE_CONE
     code[np.minimum(cov_hi, cov_lo) < lim.min_contact_fraction] = EDGE_CONTACT
     code[width > lim.max_width_m] = TOO_WIDE
     code[count < lim.min_material_points] = NO_MATERIAL

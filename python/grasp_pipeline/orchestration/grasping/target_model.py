@@ -5,8 +5,8 @@ From one frame the camera sees an object's top and the sides facing it. The 2.5-
 the grasp checks (the same as the planner's model of the neighbours): what is seen from
 above extends straight down — each ``cell_m`` column holding the object's points is filled
 from its lowest seen point down to the table, or down to the highest surface seen under it
-(another object it lies on). The sampler closes the pads on this solid model; normals come
-only from the points the camera saw (the filled points have none).
+(another object it lies on). The sampler closes the pads on this solid model; the seen
+points' normals come from the camera's view, the filled points' from the solid's shape.
 """
 
 from __future__ import annotations
@@ -25,8 +25,8 @@ NORMAL_NEIGHBOURS = 10
 @dataclass(frozen=True)
 class TargetModel:
     """``points`` (N, 3) world [m]: the seen points (thinned) followed by the filled ones;
-    ``seen`` (N,) True for the first; ``normals`` (N, 3) unit outward normals of the seen
-    points (zero rows for the filled ones); ``centroid`` (3,) the centre of the object's area
+    ``seen`` (N,) True for the first; ``normals`` (N, 3) unit outward normals (of the seen
+    points from the camera's view, of the filled ones from the solid's shape); ``centroid`` (3,) the centre of the object's area
     seen from above at its mid height; ``heights_m`` (N,) above the table."""
 
     points: np.ndarray
@@ -39,20 +39,22 @@ class TargetModel:
         return len(self.points)
 
 
-def estimate_normals(points: np.ndarray, viewpoint: np.ndarray, k: int = NORMAL_NEIGHBOURS) -> np.ndarray:
-    """(N, 3) unit normals of ``points`` by PCA over each point's ``k`` nearest neighbours,
-    oriented towards ``viewpoint`` (the camera that saw them)."""
+def estimate_normals(points: np.ndarray, viewpoint: np.ndarray, k: int = NORMAL_NEIGHBOURS,
+                     at: np.ndarray | None = None, tree: cKDTree | None = None) -> np.ndarray:
+    """Unit normals by PCA over the ``k`` nearest of ``points``, oriented towards
+    ``viewpoint`` (the camera that saw them): of every point, or of the points ``at`` (M, 3)
+    (``tree``: a KD-tree of ``points``, when one is at hand)."""
     pts = np.asarray(points, dtype=float)
-    n = len(pts)
-    if n < 3:
-        return np.zeros((n, 3))
-    k = min(k, n)
-    _, idx = cKDTree(pts).query(pts, k=k)
+    query = pts if at is None else np.asarray(at, dtype=float)
+    if len(pts) < 3:
+        return np.zeros((len(query), 3))
+    k = min(k, len(pts))
+    _, idx = (tree or cKDTree(pts)).query(query, k=k)
     nb = pts[idx] - pts[idx].mean(axis=1, keepdims=True)
     cov = np.einsum("nki,nkj->nij", nb, nb)
     _, vecs = np.linalg.eigh(cov)
     normals = vecs[:, :, 0]
-    flip = np.einsum("ni,ni->n", normals, np.asarray(viewpoint, float) - pts) < 0
+    flip = np.einsum("ni,ni->n", normals, np.asarray(viewpoint, float) - query) < 0
     normals[flip] *= -1.0
     return normals
 
@@ -112,27 +114,55 @@ def footprint_centroid(points: np.ndarray, heights: np.ndarray, plane_n: np.ndar
 
 
 def target_model(cloud: SceneCloud, tid: int, viewpoint: np.ndarray, cell_m: float,
-                 max_points: int, rng_seed: int = 0) -> TargetModel | None:
+                 max_points: int, unknown=None, max_cell_m: float = 0.009) -> TargetModel | None:
     """The :class:`TargetModel` of track ``tid`` in ``cloud`` (None without points of it):
-    its seen points thinned to ``cell_m``, its hidden columns filled every ``2 cell_m``; at
-    most ``max_points`` points (a fixed-seed subsample beyond)."""
+    its seen points thinned to one per ``cell_m`` voxel and its hidden columns filled every
+    ``cell_m``; when that makes more than ``max_points``, the whole model is thinned on a
+    coarser grid (never beyond ``max_cell_m``: a pad's strip must still hold points wherever
+    the object is). ``unknown(points)``: True where no camera has seen the space — with it,
+    only the unseen part of a column is filled (what a camera saw through is known to be
+    empty: under a leaning box, say)."""
     mask = cloud.owner == int(tid)
     own = cloud.points[mask]
     if len(own) < 3:
         return None
-    normals = estimate_normals(own, viewpoint)
-    keep = thin(own, cell_m)
-    own, normals = own[keep], normals[keep]
-    own_h = cloud.heights_m(own)
     other = cloud.points[~mask]
-    filled = fill_columns(own, own_h, other, cloud.heights_m(other), cloud.plane_n, 2.0 * cell_m)
-    if len(own) + len(filled) > max_points:
-        rng = np.random.default_rng(rng_seed)
-        budget = max(max_points - len(own), max_points // 2)
-        if len(filled) > budget:
-            filled = filled[np.sort(rng.choice(len(filled), budget, replace=False))]
-    pts = np.vstack([own, filled])
-    seen = np.r_[np.ones(len(own), bool), np.zeros(len(filled), bool)]
-    nrm = np.vstack([normals, np.zeros((len(filled), 3))])
-    h = cloud.heights_m(pts)
-    return TargetModel(pts, seen, nrm, footprint_centroid(own, own_h, cloud.plane_n, cell_m), h)
+    other_h = cloud.heights_m(other)
+    cell = float(cell_m)
+    tree = cKDTree(own)
+    while True:
+        keep = thin(own, cell)
+        seen = own[keep]
+        nrm = estimate_normals(own, viewpoint, at=seen, tree=tree)
+        seen_h = cloud.heights_m(seen)
+        filled = fill_columns(seen, seen_h, other, other_h, cloud.plane_n, cell)
+        if unknown is not None and len(filled):
+            filled = filled[np.asarray(unknown(filled), dtype=bool)]
+        if len(seen) + len(filled) <= max_points or cell >= max_cell_m:
+            break
+        cell = min(cell * 1.25, max_cell_m)
+    pts = np.vstack([seen, filled])
+    flags = np.r_[np.ones(len(seen), bool), np.zeros(len(filled), bool)]
+    nrm = np.vstack([nrm, solid_normals(pts, len(seen))])
+    return TargetModel(pts, flags, nrm, footprint_centroid(seen, seen_h, cloud.plane_n, cell_m),
+                       cloud.heights_m(pts))
+
+
+def solid_normals(points: np.ndarray, first: int, k: int = 2 * NORMAL_NEIGHBOURS) -> np.ndarray:
+    """(N - first, 3) normals of the filled points ``points[first:]`` of a solid model: PCA
+    over their ``k`` nearest model points, pointing away from that neighbourhood's centroid
+    (on the solid's boundary the neighbours lie inside; the side of a column sheet gets the
+    side's normal)."""
+    filled = points[first:]
+    if len(filled) == 0 or len(points) < 3:
+        return np.zeros((len(filled), 3))
+    k = min(k, len(points))
+    _, idx = cKDTree(points).query(filled, k=k)
+    nb = points[idx]
+    mean = nb.mean(axis=1)
+    cen = nb - mean[:, None, :]
+    _, vecs = np.linalg.eigh(np.einsum("nki,nkj->nij", cen, cen))
+    normals = vecs[:, :, 0]
+    flip = np.einsum("ni,ni->n", normals, filled - mean) < 0
+    normals[flip] *= -1.0
+    return normals
