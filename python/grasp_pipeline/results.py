@@ -110,6 +110,7 @@ class PickResult:
     grasp_source: str = ""
     wall_s: Optional[float] = None   # wall-clock time of the whole pick [s]
     snapshots: list = field(default_factory=list)   # PNGs written for this pick (failures)
+    declined: bool = False   # no grasp after a closer look: not attempted (clearing a table)
 
 
 @dataclass

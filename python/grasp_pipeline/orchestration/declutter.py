@@ -125,6 +125,23 @@ def _ended(outcome: DeclutterOutcome, consecutive: int, cfg: DeclutterConfig) ->
     return bool(outcome.end_reason)
 
 
+def _attempt(ctx: PickContext, targets: list, out: DeclutterOutcome):
+    """(the first attempted pick's row, its target), trying ``targets`` in order: a target
+    whose closer look leaves the grasp source without a grasp is declined — no attempt, it
+    joins ``out.skipped`` — and the next one is tried; (None, None) when all are declined."""
+    for xy in targets:
+        log.info("attempt %d: %d target(s); picking at (%.3f, %.3f)", len(out.attempts) + 1,
+                 len(targets), *xy)
+        row = pick_object(ctx, xy, decline_without_grasp=True)
+        if not row.declined:
+            return row, xy
+        track, _ = nearest_track(ctx.loop.tracks(), xy)
+        out.skipped.append({"tid": None if track is None else int(track.tid),
+                            "center": [float(xy[0]), float(xy[1])],
+                            "why": f"after a closer look: {row.message}"})
+    return None, None
+
+
 def clear_table(ctx: PickContext, cell, rough_tids: set, config: DeclutterConfig,
                 on_attempt: Optional[Callable] = None) -> DeclutterOutcome:
     """Pick objects one at a time until the rules end the round (see the module doc).
@@ -140,14 +157,15 @@ def clear_table(ctx: PickContext, cell, rough_tids: set, config: DeclutterConfig
         if not targets:
             out.end_reason = END_NO_TARGET
             break
-        log.info("attempt %d: %d target(s); picking at (%.3f, %.3f)", len(out.attempts) + 1,
-                 len(targets), *targets[0])
-        row = pick_object(ctx, targets[0])
+        row, target = _attempt(ctx, targets, out)
+        if row is None:
+            out.end_reason = END_NO_TARGET
+            break
         out.attempts.append(row)
         ok = bool(row.success and not row.failed_stage)  # the robot's own judgement
         consecutive = 0 if ok else consecutive + 1
         if not ok:
-            failed_anchors.append(targets[0])
+            failed_anchors.append(target)
         if on_attempt is not None:
             on_attempt(row)
         if _ended(out, consecutive, config):

@@ -105,15 +105,20 @@ def _select_and_verify(ctx: PickContext, xy, row: PickResult):
     return sel
 
 
-def grasp_request(ctx: PickContext, xy, target) -> GraspRequest:
+def grasp_request(ctx: PickContext, xy, target, check_collisions: bool = False) -> GraspRequest:
     """What the grasp source gets for the object ``target`` (a track) at ``xy``: the latest
-    published grasp, the perceived scene and the scene's labelled points."""
+    published grasp, the perceived scene, the scene's labelled points and the arm's reach
+    (``check_collisions``: the planner's scene is set for this target first, and a reachable
+    grasp also needs collision-free joints at the grasp and the pre-grasp)."""
     loop, s = ctx.loop, ctx.settings
     motion = ctx.action.motion
-    reach = ArmReach(motion.planner, motion.q_cmd, ctx.rt.world.tcp_pose())
+    scene = snapshot(loop, exclude_tids=ctx.action.lingering_tids())
+    if check_collisions and target is not None:
+        motion.set_scene(scene.without_fragments(int(target.tid), s.grasp.fragment_margin_m),
+                         int(target.tid))
+    reach = ArmReach(motion.planner, motion.q_cmd, ctx.rt.world.tcp_pose(), check_collisions)
     return GraspRequest(anchor_xy=(float(xy[0]), float(xy[1])), target=target,
-                        published=loop.selector.best_grasp,
-                        scene=snapshot(loop, exclude_tids=ctx.action.lingering_tids()),
+                        published=loop.selector.best_grasp, scene=scene,
                         max_width_m=s.obb.gripper_open - s.grasp.open_margin_m,
                         cloud=loop.scene_cloud(), min_width_m=s.obb.min_graspable_width,
                         reach=reach)
@@ -121,16 +126,17 @@ def grasp_request(ctx: PickContext, xy, target) -> GraspRequest:
 
 def _candidates(ctx: PickContext, xy, sel) -> list:
     target = next((t for t in ctx.loop.tracks() if t.tid == sel.tid), None)
-    return list(ctx.source.propose(grasp_request(ctx, xy, target)))
+    return list(ctx.source.propose(grasp_request(ctx, xy, target, check_collisions=True)))
 
 
-def _run_action(ctx: PickContext, xy, sel, row: PickResult):
-    """Grasp (and place) with the source's candidates; the action's outcome or None."""
+def _run_action(ctx: PickContext, xy, sel, row: PickResult, decline: bool = False):
+    """Grasp (and place) with the source's candidates; the action's outcome or None.
+    ``decline``: when the source proposes nothing, the pick is declined (not attempted)."""
     rt, loop, action = ctx.rt, ctx.loop, ctx.action
     try:
         grasps = _candidates(ctx, xy, sel)
         if not grasps:
-            row.failed_stage = "GRASP"
+            row.failed_stage, row.declined = "GRASP", decline
             why = getattr(ctx.source, "last_refusal", "")
             row.message = f"grasp source {ctx.source.name!r} proposed no grasp" + (f": {why}" if why else "")
             return None
@@ -171,8 +177,12 @@ def return_to_start(ctx: PickContext) -> None:
         log.error("recovery did not finish: %s", exc)
 
 
-def pick_object(ctx: PickContext, xy) -> PickResult:
-    """Pick (and place) the object at ``xy`` [m, world]; see the module doc."""
+def pick_object(ctx: PickContext, xy, decline_without_grasp: bool = False) -> PickResult:
+    """Pick (and place) the object at ``xy`` [m, world]; see the module doc.
+
+    ``decline_without_grasp``: when, after the closer look, the grasp source proposes no
+    grasp, the pick is declined — ``row.declined``, no :class:`PickEvent`: the arm made no
+    attempt (clearing a table then tries another object)."""
     wall0 = time.perf_counter()
     return_to_start(ctx)
     ctx.rt.spin(ctx.settings.scan.settle_view_s)
@@ -182,7 +192,11 @@ def pick_object(ctx: PickContext, xy) -> PickResult:
     out = None
     sel = _select_and_verify(ctx, xy, row)
     if sel is not None:
-        out = _run_action(ctx, xy, sel, row)
+        out = _run_action(ctx, xy, sel, row, decline_without_grasp)
+    if row.declined:
+        row.wall_s = time.perf_counter() - wall0
+        log.info("pick at (%.3f, %.3f) declined: %s", xy[0], xy[1], row.message)
+        return row
     if out is not None:
         row.success, row.failed_stage = out.success, out.failed_stage
         row.message = out.message or "picked"

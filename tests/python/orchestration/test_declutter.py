@@ -38,8 +38,10 @@ def fake(monkeypatch):
                           source=SimpleNamespace(name="fake", propose=lambda request: ["a grasp"]))
     monkeypatch.setattr(declutter, "grasp_request", lambda _ctx, xy, track: (xy, track.tid))
 
-    def pick(_ctx, xy):
+    def pick(_ctx, xy, decline_without_grasp=False):
         ok = state["plan"].pop(0)
+        if ok is None:  # no grasp after the closer look
+            return PickResult(anchor=list(xy), failed_stage="GRASP", declined=decline_without_grasp)
         if ok:
             state["objects"].remove(tuple(xy))
         return PickResult(anchor=list(xy), success=ok, failed_stage=None if ok else "CLOSE")
@@ -109,3 +111,16 @@ def test_a_round_ends_when_the_source_proposes_nothing(fake):
     out = declutter.clear_table(ctx, _Cell(), {0, 1, 2}, DeclutterConfig(order="nearest"))
     assert out.attempts == [] and out.end_reason == declutter.END_NO_TARGET
     assert len(state["objects"]) == 3
+
+
+def test_a_target_without_a_grasp_after_its_closer_look_is_no_attempt(fake):
+    """The closer look just before a pick can leave the source without a grasp: the robot
+    declines that object (it joins the skipped ones with the reason) and tries the next one
+    in the same look; no attempt is counted, no failure either."""
+    ctx, state = fake
+    state["plan"] = [None, True, None, True, None]
+    out = declutter.clear_table(ctx, _Cell(), {0, 1, 2}, DeclutterConfig(order="nearest"))
+    assert [a.anchor for a in out.attempts] == [[0.5, 0.0], [0.6, 0.0]]
+    assert all(a.success for a in out.attempts)
+    assert out.end_reason == declutter.END_NO_TARGET and state["objects"] == [(0.40, 0.0)]
+    assert any(s["why"].startswith("after a closer look") for s in out.skipped)
