@@ -69,6 +69,7 @@ class GraspOutcome:
     width_m: Optional[float] = None
     release_time_s: Optional[float] = None  # when the gripper opened to place / recover
     candidate: Optional[int] = None          # which grasp candidate was executed (0-based)
+    grasp: Optional[dict] = None             # the executed grasp: kind, tilt_deg, score, source
 
 
 @dataclass
@@ -111,6 +112,7 @@ class PickResult:
     wall_s: Optional[float] = None   # wall-clock time of the whole pick [s]
     snapshots: list = field(default_factory=list)   # PNGs written for this pick (failures)
     declined: bool = False   # no grasp after a closer look: not attempted (clearing a table)
+    grasp: Optional[dict] = None   # the executed grasp: kind, tilt_deg, score, source
 
 
 @dataclass

@@ -95,7 +95,7 @@ def _attempt_row(p: dict, models: dict) -> dict:
     ok = bool(p.get("success") and p.get("placed") and not p.get("failed_stage"))
     row = {"object": p.get("object"), "model": models.get(p.get("object")),
            "anchor": [round(float(x), 4) for x in p.get("anchor") or []], "success": ok,
-           "reported_success": bool(p.get("success")), "wall_s": p.get("wall_s"),
+           "reported_success": bool(p.get("success")), "wall_s": p.get("wall_s"), "grasp": p.get("grasp"),
            "snapshots": list(p.get("snapshots") or [])}
     if not ok:
         stage = p.get("failed_stage") or ("VERIFY" if p.get("success") else "UNKNOWN")

@@ -36,6 +36,7 @@ from ..results import GraspOutcome
 from .config import GraspConfig
 from .events import EventBus, GraspEvent, StageEvent
 from .grasp_planning import NoReachableGrasp, PlannedGrasp, opening_for, plan_grasp
+from .grasping.grasp import Grasp
 from .gripper_moves import (ObjectDropped, StageFailure, close_until_stall, hold_lost, lost_message,
                             wait_gap, watch_held)
 from .place import place_in_tray, recover
@@ -55,6 +56,13 @@ class GraspStage(enum.Enum):
     LIFT = "LIFT"
     DONE = "DONE"
     PLACE = "PLACE"
+
+
+def grasp_summary(grasp, plane) -> dict:
+    """What a report says of an executed grasp: its kind, tilt, score and source."""
+    g = Grasp.of(grasp, plane_n=None if plane is None else np.asarray(plane.n, float))
+    return {"kind": g.kind.value, "tilt_deg": round(float(g.tilt_deg), 1), "score": round(float(g.score), 3),
+            "source": g.source, "width_m": round(float(g.width_m), 4)}
 
 
 def held_points(scene, k: int) -> np.ndarray:
@@ -188,6 +196,7 @@ class GraspAction:
         self.tcp_height_m = None if plane is None else \
             float(np.asarray(plane.n, float) @ plan.T_grasp[:3, 3] + float(plane.c))
         out.width_m, out.candidate = float(plan.grasp.width_m), plan.index
+        out.grasp = grasp_summary(plan.grasp, self.loop.plane)
         opening = opening_for(plan.grasp, cfg, GRIPPER_MAX_WIDTH_M)
         robot.set_gripper(opening, effort_N=cfg.close_effort_N)
         yield from wait_gap(robot, opening, cfg)  # the fingers as planned before the arm moves

@@ -201,6 +201,7 @@ def pick_object(ctx: PickContext, xy, decline_without_grasp: bool = False) -> Pi
         row.success, row.failed_stage = out.success, out.failed_stage
         row.message = out.message or "picked"
         row.stages, row.stall_gap_m, row.width_m = out.stages, out.stall_gap_m, out.width_m
+        row.grasp = out.grasp
         row.placed = bool(out.placed)
     row.wall_s = time.perf_counter() - wall0
     ctx.rt.events.publish(PickEvent(float(ctx.rt.world.time_s), row,

@@ -29,14 +29,14 @@ class SamplerConfig:
     max_raise_m: float = 0.03
     duplicate_angle_deg: float = 15.0
     centre_scale_m: float = 0.03
-    width_scale_m: float = 0.01
+    width_scale_m: float = 0.02
     weight_coverage: float = 1.0
     weight_antipodal: float = 1.0
     weight_centre: float = 1.0
     weight_depth: float = 0.5
-    weight_width: float = 0.5
+    weight_width: float = 1.0
     weight_overlap: float = 0.5
-    weight_tilt: float = 1.0
+    weight_tilt: float = 3.0
     weight_clearance: float = 0.5
     clearance_enough_m: float = 0.01
     unknown_max_fraction: float = 0.5
