@@ -40,7 +40,8 @@ END_ATTEMPTS = "attempt limit"
 @dataclass
 class DeclutterOutcome:
     """The attempts of one round (:class:`~grasp_pipeline.results.PickResult`) and why it
-    ended; ``skipped`` lists the tracks of the last look that were not targets."""
+    ended; ``skipped`` lists the tracks of the last look that were not targets (with ``why``:
+    the grasp checks' notes, or the grasp source proposing no grasp)."""
 
     attempts: list = field(default_factory=list)
     end_reason: str = ""
@@ -86,16 +87,32 @@ def grasp_offer(ctx: PickContext, xy) -> int:
     return OFFER_OTHER if ctx.source.propose(request) else OFFER_NONE
 
 
-def choose_order(ctx: PickContext, targets: list, failed_anchors: list, config: DeclutterConfig) -> list:
+def no_grasp_skip(ctx: PickContext, xy) -> dict:
+    """The ``skipped`` entry of an object the grasp source proposes no grasp for, with the
+    source's reason when it gives one (its ``refusal`` after :meth:`propose` returned none)."""
+    track, _ = nearest_track(ctx.loop.tracks(), xy)
+    why = f"grasp source {ctx.source.name!r} proposed no grasp"
+    refusal = (getattr(ctx.source, "refusal", "") or "") if track is not None else "no track there"
+    return {"tid": None if track is None else int(track.tid), "center": [float(xy[0]), float(xy[1])],
+            "why": f"{why}: {refusal}" if refusal else why}
+
+
+def choose_order(ctx: PickContext, targets: list, failed_anchors: list, config: DeclutterConfig,
+                 skipped: Optional[list] = None) -> list:
     """The round's target order: by accessibility (or nearest first), objects without a grasp
     fitted to their points after those with one (another object first: picking it may free
-    them), objects the source proposes no grasp for left out, failed places last."""
+    them), objects the source proposes no grasp for left out (and added to ``skipped`` when
+    given), failed places last."""
     if config.order == "accessibility":
         s = ctx.settings
         targets = rank_by_accessibility(targets, ctx.loop.tracks(), hand_clearances(),
                                         s.grasp.open_margin_m, s.obb.gripper_open - s.grasp.open_margin_m,
                                         config.free_space_enough_m)
-    offers = [grasp_offer(ctx, t) for t in targets]
+    offers = []
+    for t in targets:
+        offers.append(grasp_offer(ctx, t))
+        if offers[-1] == OFFER_NONE and skipped is not None:
+            skipped.append(no_grasp_skip(ctx, t))
     targets = [t for t, f in zip(targets, offers) if f == OFFER_FITTED] + \
         [t for t, f in zip(targets, offers) if f == OFFER_OTHER]
     return order_targets(targets, failed_anchors, config.failed_anchor_radius_m)
@@ -120,7 +137,7 @@ def clear_table(ctx: PickContext, cell, rough_tids: set, config: DeclutterConfig
     while True:
         targets, out.skipped = default_targets(ctx.loop.tracks(), cell, margin, rough_tids,
                                                ctx.loop.judge)
-        targets = choose_order(ctx, targets, failed_anchors, config)
+        targets = choose_order(ctx, targets, failed_anchors, config, out.skipped)
         if not targets:
             out.end_reason = END_NO_TARGET
             break
