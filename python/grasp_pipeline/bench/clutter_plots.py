@@ -144,7 +144,7 @@ def _md_grasp_bound(r: dict) -> list[str]:
     for title, key in (("Never proposed: why (the robot's last look)", "never_proposed_reasons"),
                        ("Attempted and failed: stage and reason of the last attempt", "attempted_failed_reasons")):
         if b.get(key):
-            L += [f"{title}:", ""] + _table(["reason", "objects"], [[_short(k, 160), v] for k, v in b[key].items()])
+            L += [f"{title}:", ""] + _table(["reason", "objects"], [[_short(k, 240), v] for k, v in b[key].items()])
     return L
 
 

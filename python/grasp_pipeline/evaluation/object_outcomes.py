@@ -14,6 +14,8 @@ object its outcome (:func:`assign_outcomes`, the first that applies):
   the grasp guards, the grasp source proposing nothing, ...);
 * ``round_ended``: the round ended on failures or the attempt limit while a track of the last
   look still lay on it (a target not tried yet);
+* ``merged``: no track of its own in the last look, but its centre lay inside the box of a
+  track on another object (segmentation merged them, or it lay hidden under that one);
 * ``round_error``: the round raised before anything above happened to it;
 * ``not_seen``: no track of the last look lay on it.
 
@@ -39,7 +41,7 @@ from .config import GraspBoundConfig
 from .grasp_bound import CLASSES, LABELS, bounds_of_spec, bounds_of_world, object_shape
 
 #: The outcomes, in the order they are decided.
-OUTCOMES = ("picked", "attempted_failed", "displaced", "never_proposed", "round_ended",
+OUTCOMES = ("picked", "attempted_failed", "displaced", "never_proposed", "round_ended", "merged",
             "round_error", "not_seen")
 #: How many never-proposed / failure reasons the summary lists.
 TOP_REASONS = 10
@@ -70,6 +72,14 @@ def polygon_distance_m(polygon: np.ndarray, p) -> float:
     return float(np.min(np.linalg.norm(ap - t[:, None] * ab, axis=1)))
 
 
+def in_track_box(xy, track) -> bool:
+    """True when ``xy`` lies inside the footprint of ``track``'s box (``R_box`` columns: closing
+    direction, its perpendicular, the table's normal; ``extents`` along them)."""
+    e = track.smoothed
+    local = (np.asarray(xy, float)[:2] - np.asarray(e.center, float)[:2]) @ np.asarray(e.R_box, float)[:2, :2]
+    return bool(np.all(np.abs(local) <= 0.5 * np.asarray(e.extents, float)[:2]))
+
+
 def nearest_object(xy, outlines: dict, centres: dict, limit_m: float) -> Optional[str]:
     """The object whose outline is nearest ``xy`` (ties: the nearest centre), None beyond
     ``limit_m``."""
@@ -90,14 +100,15 @@ def _failed_outcome(tried: list) -> dict:
 
 
 def assign_outcomes(names: Iterable[str], attempts: list, skipped: list, last_look: set,
-                    ended_early: bool, errored: bool, off_table: set) -> dict:
+                    ended_early: bool, errored: bool, off_table: set, inside_tracks: set = frozenset()) -> dict:
     """{name: {"outcome", "attempts", and "stage"/"reason" or "why" where they apply}}.
 
     ``attempts``: the round's attempts in order, each ``{"object", "success", "stage",
     "reason"}`` (``object``: the true object or None); ``skipped``: the last look's skipped
     tracks, ``{"object", "why"}``; ``last_look``: the objects a track of the last look lay
     on; ``ended_early``: the round ended on failures or the attempt limit; ``errored``: it
-    raised; ``off_table``: the objects not on the table at the end."""
+    raised; ``off_table``: the objects not on the table at the end; ``inside_tracks``: the
+    objects whose centre lay inside the box of a track of the last look."""
     out = {}
     for name in names:
         tried = [a for a in attempts if a.get("object") == name]
@@ -112,6 +123,8 @@ def assign_outcomes(names: Iterable[str], attempts: list, skipped: list, last_lo
             row = {"outcome": "never_proposed", "why": " | ".join(dict.fromkeys(whys))}
         elif ended_early and name in last_look:
             row = {"outcome": "round_ended"}
+        elif name in inside_tracks and name not in last_look:
+            row = {"outcome": "merged"}
         elif errored:
             row = {"outcome": "round_error"}
         else:
@@ -151,7 +164,6 @@ class ObjectOutcomeRecorder:
         self.outlines: dict = {}
         self.centres: dict = {}
         self.attempt_objects: list = []
-        self.last_tracks: list = []
 
     def attach(self, events: EventBus) -> "ObjectOutcomeRecorder":
         events.subscribe(StageEvent, self.on_stage)
@@ -179,20 +191,23 @@ class ObjectOutcomeRecorder:
     def on_pick(self, ev: PickEvent) -> None:
         row = ev.result
         self.attempt_objects.append(row.object or (self.match(row.anchor) if row.anchor else None))
-        self.last_tracks = [tuple(float(v) for v in t.smoothed.center[:2]) for t in self.loop.tracks()]
 
     def rows(self, attempts: list, skipped: list, end_reason: str, error: Optional[str],
              models: dict) -> list:
         """The objects' rows (:func:`object_rows`); ``attempts``: the benchmark's attempt rows
         (``success``, ``stage``, ``reason``) in order; ``skipped``: the run report's
-        ``targets_skipped``; ``end_reason``: the robot's own."""
+        ``targets_skipped``; ``end_reason``: the robot's own. The robot's tracks now are those of
+        its last look (a round ends right after a look, or right after an attempt)."""
         bounds = self.bounds if self.bounds is not None else bounds_of_world(self.world, self.config, self.shapes)
         names = self.attempt_objects + [None] * max(0, len(attempts) - len(self.attempt_objects))
         tried = [{**a, "object": n} for a, n in zip(attempts, names)]
         skips = [{"object": self.match(s["center"]), "why": s.get("why", "")} for s in skipped or []]
-        last_look = {self.match(xy) for xy in self.last_tracks} - {None}
+        tracks = list(self.loop.tracks())
+        last_look = {self.match(t.smoothed.center) for t in tracks} - {None}
+        inside = {n for n, c in self.centres.items() if any(in_track_box(c, t) for t in tracks)}
         off = set(bounds) - set(self.on_table(self.world))
-        outcomes = assign_outcomes(bounds, tried, skips, last_look, _ended_early(end_reason), bool(error), off)
+        outcomes = assign_outcomes(bounds, tried, skips, last_look, _ended_early(end_reason), bool(error), off,
+                                   inside)
         return object_rows(bounds, outcomes, models)
 
 
@@ -203,7 +218,7 @@ def _fraction(num: int, den: int) -> Optional[float]:
     return None if den == 0 else round(num / den, 4)
 
 
-def why_category(why: str, max_len: int = 140) -> str:
+def why_category(why: str, max_len: int = 240) -> str:
     """A skip reason without its numbers and track ids, so that one cause counts once."""
     text = re.sub(r"\(\s*[-+\d.eE]+\s*,\s*[-+\d.eE]+\s*\)\s*", "", str(why or ""))  # (x, y)
     text = re.sub(r"#\d+", "#", text)

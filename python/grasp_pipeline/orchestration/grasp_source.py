@@ -170,7 +170,7 @@ class GeometricGraspSource:
         if not ranked:
             reasons = sorted({ln.reason.split(" (")[0].split(" by ")[0].split(" unless")[0] if ln.reason else
                               "too far from the centroid" for ln in lines})
-            self._fit_note = "; ".join(reasons)
+            self._fit_note = "; ".join(sorted({r.split(":")[0] for r in reasons}))
             log.info("no closing line of #%d passes the point checks (%d tried: %s); box grasps",
                      request.target.tid, len(lines), "; ".join(reasons) or "no points of it")
             return []

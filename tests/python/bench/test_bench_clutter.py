@@ -145,7 +145,7 @@ def test_aggregate_rates_the_picks_against_each_geometric_bound(tmp_path):
     assert res["dr"] == round(2 / 6, 4)  # the existing figures unchanged
     text = write_summary({**res, "out_dir": str(tmp_path)}, tmp_path / "summary.md").read_text()
     assert "## Gap to geometry" in text and "| top_down (from straight above) | 2 (40.0 %) | 50.0 % |" in text
-    assert "| none | 1 | 0 | 0 | 0 | 0 | 0 | 0 | 1 |" in text
+    assert "| none | 1 | 0 | 0 | 0 | 0 | 0 | 0 | 0 | 1 |" in text
 
 
 def test_bad_protocol_and_object_folder_are_refused_before_any_round(tmp_path):

@@ -4,7 +4,9 @@ true objects, and the pooled summary with the declutter rate against each bound.
 import numpy as np
 import pytest
 
-from grasp_pipeline.evaluation.object_outcomes import (OUTCOMES, assign_outcomes, nearest_object,
+from types import SimpleNamespace
+
+from grasp_pipeline.evaluation.object_outcomes import (OUTCOMES, assign_outcomes, in_track_box, nearest_object,
                                                        polygon_distance_m, summarize, why_category)
 
 NAMES = ["mug_0", "box_1", "can_2", "bottle_3", "plate_4", "pear_5"]
@@ -37,6 +39,20 @@ def test_a_round_ended_by_the_robot_finding_nothing_leaves_unseen_objects_unseen
     out = assign_outcomes(["a", "b"], [_attempt("a", True)], [], last_look={"b"}, ended_early=False,
                           errored=True, off_table=set())
     assert [out[n]["outcome"] for n in "ab"] == ["picked", "round_error"]
+
+
+def test_an_object_inside_the_box_of_another_objects_track_was_merged_with_it():
+    out = assign_outcomes(["a", "b", "c"], [], [{"object": "a", "why": "too wide"}], last_look={"a"},
+                          ended_early=False, errored=False, off_table=set(), inside_tracks={"a", "b"})
+    assert [out[n]["outcome"] for n in "abc"] == ["never_proposed", "merged", "not_seen"]
+
+
+def test_a_track_box_footprint_follows_its_yaw():
+    c, s = np.cos(np.radians(30)), np.sin(np.radians(30))
+    R = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])  # closing direction 30° from x
+    track = SimpleNamespace(smoothed=SimpleNamespace(center=[0.5, 0.0, 0.1], R_box=R, extents=[0.2, 0.04, 0.1]))
+    assert in_track_box((0.5 + 0.09 * c, 0.09 * s), track)          # 90 mm along its 200 mm side
+    assert not in_track_box((0.5 - 0.03 * s, 0.03 * c), track)      # 30 mm across its 40 mm side
 
 
 SQUARE = np.array([[0.0, 0.0], [0.1, 0.0], [0.1, 0.1], [0.0, 0.1]])  # counter-clockwise
@@ -75,7 +91,7 @@ def test_summary_rates_each_bound_by_the_objects_graspable_under_it():
     assert s["dr_width_only"] == {"top_down": round(2 / 3, 4), "tilted": round(4 / 6, 4), "any_side": 0.5}
     assert s["picked_outside_bound"] == 1
     assert s["outcomes"] == {"picked": 4, "attempted_failed": 1, "displaced": 0, "never_proposed": 2,
-                             "round_ended": 0, "round_error": 0, "not_seen": 1}
+                             "round_ended": 0, "merged": 0, "round_error": 0, "not_seen": 1}
     assert s["label_by_outcome"]["top_down"]["never_proposed"] == 1 and s["label_by_outcome"]["none"]["picked"] == 1
     assert sum(sum(v.values()) for v in s["label_by_outcome"].values()) == 8
     assert s["never_proposed_reasons"] == {"# far": 2}
