@@ -111,8 +111,8 @@ def _add_clutter_bench(bsub) -> None:
                         "round's folder: DIR/seed_<K>_round_<NNN>_scene_<S>.rrd (open one with "
                         "'rerun FILE.rrd'). Needs pip install 'grasp-pipeline[rerun]'")
     _add_backend_options(c)
-    _add_config_options(c, "scene_filter, obb, camera, sim, clutter, motion, scan, grasp, declutter",
-                        "clutter.objects_per_scene=3")
+    _add_config_options(c, "scene_filter, obb, camera, sim, clutter, motion, scan, grasp, declutter, "
+                        "grasp_bound", "clutter.objects_per_scene=3")
 
 
 def _add_record(sub: argparse._SubParsersAction) -> None:

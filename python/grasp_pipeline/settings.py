@@ -43,6 +43,7 @@ SECTIONS: Mapping[str, tuple[str, str]] = MappingProxyType({
     "language": ("grasp_pipeline.language.config", "LanguageConfig"),
     "rerun": ("grasp_pipeline.report.config", "RerunConfig"),
     "record": ("grasp_pipeline.dataset.config", "RecordConfig"),
+    "grasp_bound": ("grasp_pipeline.evaluation.config", "GraspBoundConfig"),
 })
 
 

@@ -20,11 +20,21 @@ PRE_GRASP failure: the product chose that object and could not pick it);
 reason, success by object model, time per attempt and per round, segmentation quality at the
 scan (:mod:`grasp_pipeline.evaluation.segmentation`), how rounds ended.
 
+The gap to geometry (``grasp_bound``): every object of every round is labelled from its true
+shape and settled pose — graspable by the 80 mm hand from straight above, with an approach
+tilted up to 60°, from some side, or not at all (:mod:`grasp_pipeline.evaluation.grasp_bound`,
+``config/grasp_bound.yaml``) — and given what happened to it (picked, attempted and failed,
+never proposed and why, ...: :mod:`grasp_pipeline.evaluation.object_outcomes`); the JSON holds
+the label counts, the declutter rate against each bound (``dr_top_down``, ``dr_tilted``,
+``dr_any_side``: objects picked among those graspable under it / those graspable) and the
+outcomes per label. Each round record lists its objects in ``object_outcomes``.
+
 Deterministic for a seed (rounds sorted; only the fields in :data:`TIMING_KEYS` differ).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 import os
@@ -35,8 +45,8 @@ from typing import Optional
 from ..app.run_command import sigterm_as_interrupt
 from ..exceptions import InputError
 from ..report.serialize import check_writable, check_writable_dir, write_json
-from .clutter_round import run_round
-from .grasp_bench import failures_by_stage, scene_seed, scene_settings, stats
+from .clutter_round import clutter_settings, run_round
+from .grasp_bench import failures_by_stage, scene_seed, stats
 from .scheduler import JobSpec, run_jobs, worker_env
 
 log = logging.getLogger(__name__)
@@ -95,6 +105,12 @@ def _segmentation(rows: list[dict]) -> dict:
     return summarize(scores, sum(r["objects_placed"] for r in rows))
 
 
+def _grasp_bound(rows: list[dict]) -> dict:
+    from ..evaluation.object_outcomes import summarize
+
+    return summarize([o for r in rows for o in r.get("object_outcomes") or []])
+
+
 def _end_reasons(rows: list[dict]) -> dict:
     out: dict = {}
     for r in rows:
@@ -119,6 +135,7 @@ def aggregate(rows: list[dict], protocol: str, objects: str, seeds: list[int], w
            "failures_by_stage": failures_by_stage(attempts, ok_key="success"),
            "success_by_object": _success_by_object(rows),
            "segmentation": _segmentation(rows),
+           "grasp_bound": _grasp_bound(rows),
            "time_per_attempt_s": stats(a["wall_s"] for a in attempts),
            "time_per_round_s": stats(r["timings"].get("wall_s") for r in rows),
            "wall_time_s": round(float(wall_time_s), 3),
@@ -133,12 +150,15 @@ def _failed_round(task: tuple, error: str, wall_s: float) -> dict:
     from .clutter_round import round_record, round_scene
 
     t = task[1]
+    spec = bound_config = None
     try:
-        spec = round_scene(t["protocol"], t["seed"], t["objects"], scene_settings(t["overrides"]))
+        settings = clutter_settings(t["overrides"])
+        bound_config = settings.grasp_bound
+        spec = round_scene(t["protocol"], t["seed"], t["objects"], settings)
     except Exception:  # the scene itself cannot be generated
-        spec = None
+        pass
     public = {k: v for k, v in t.items() if k not in ("overrides", "out_dir")}
-    return round_record(public, spec, None, None, error, wall_s)
+    return round_record(public, spec, None, None, error, wall_s, bound_config)
 
 
 def _run_task(task: tuple) -> dict:
@@ -178,7 +198,7 @@ def _check_inputs(protocol: str, objects: str, rounds: int, seeds: list[int], wo
         raise InputError(f"protocol must be one of {PROTOCOLS}, got {protocol!r}")
     if rounds < 1 or workers < 1 or not seeds:
         raise InputError("rounds and workers must be >= 1 and at least one seed given")
-    settings = scene_settings(overrides)  # bad overrides fail here, before any round starts
+    settings = clutter_settings(overrides)  # bad overrides fail here, before any round starts
     if protocol != "sparse":
         from ..objects.catalog import object_set
 
@@ -212,6 +232,7 @@ def run_clutter_benchmark(protocol: str = "packed", objects: str = "builtin", ro
                                      progress, backend, address)
     result = aggregate(rows, protocol, str(objects), seeds, min(workers, len(tasks)),
                        time.perf_counter() - t0)
+    result["grasp_bound"]["config"] = dataclasses.asdict(clutter_settings(overrides).grasp_bound)
     result.update(status="interrupted" if interrupted else "complete", rounds_requested=len(tasks),
                   cpu_count=os.cpu_count(), mujoco_gl=worker_env()["MUJOCO_GL"], out_dir=str(out),
                   backend=backend)
@@ -243,6 +264,12 @@ def headline(result: dict) -> str:
         f"{result['time_per_round_s']['median']} s; wall {result['wall_time_s']:.0f} s",
         f"rounds ended: {', '.join(f'{k} x{v}' for k, v in result['end_reasons'].items())}",
     ]
+    b = result.get("grasp_bound") or {}
+    if b.get("objects"):
+        lines.append(f"geometric bound: graspable from above {pct(b['graspable_fraction']['top_down'])}, "
+                     f"tilted {pct(b['graspable_fraction']['tilted'])}, any side "
+                     f"{pct(b['graspable_fraction']['any_side'])}; DR against them "
+                     f"{pct(b['dr_top_down'])} / {pct(b['dr_tilted'])} / {pct(b['dr_any_side'])}")
     for stage, f in result["failures_by_stage"].items():
         lines.append(f"  failed at {stage}: {f['count']} ({', '.join(f'{k} x{v}' for k, v in f['reasons'].items())})")
     return "\n".join(lines)

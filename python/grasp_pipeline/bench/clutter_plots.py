@@ -111,6 +111,43 @@ def _md_published(r: dict) -> list[str]:
     return L + ["(GIGA, Jiang et al. 2021, Table I; EdgeGraspNet reports GSR only.)", ""]
 
 
+BOUND_NAMES = {"top_down": "from straight above", "tilted": "approach tilted ≤ {tilt:.0f}°",
+               "any_side": "from some side"}
+
+
+def _md_grasp_bound(r: dict) -> list[str]:
+    """The gap to geometry: label counts, DR against each bound, outcomes per label, reasons."""
+    b = r.get("grasp_bound") or {}
+    if not b.get("objects"):
+        return []
+    cfg = b.get("config") or {}
+    width = f"{1e3 * cfg['max_width_m']:.0f} mm" if "max_width_m" in cfg else "the configured width"
+    tilt = float(cfg.get("tilted_limit_deg", 60.0))
+    L = ["## Gap to geometry", "",
+         f"Each object is labelled from its true shape and settled pose: graspable by the hand (at most "
+         f"{width} between the pads) from straight above, with an approach tilted ≤ {tilt:.0f}° from the "
+         "table's normal, from some side, or not at all — each pad touching the object above the table "
+         "(*width only*: the widths alone). DR against a bound = objects picked among those graspable "
+         "under it / those graspable.", ""]
+    n = b["objects"]
+    rows = [[f"{k} ({BOUND_NAMES[k].format(tilt=tilt)})", f"{b['graspable'][k]} ({_pct(b['graspable_fraction'][k])})",
+             _pct(b[f"dr_{k}"]), f"{b['graspable_width_only'][k]} ({_pct(b['graspable_width_only_fraction'][k])})",
+             _pct(b["dr_width_only"][k])] for k in BOUND_NAMES]
+    rows.append(["all objects", f"{n} (100.0 %)", _pct(b["picked"] / n), f"{n}", _pct(b["picked"] / n)])
+    L += _table(["bound", "graspable (share)", "DR against it", "width only: graspable", "width only: DR"], rows)
+    outcomes = list(b["outcomes"])
+    L += ["Outcome of each object by its label (picked objects labelled `none`: "
+          f"{b['picked_outside_bound']}):", ""]
+    L += _table(["label", *outcomes, "objects"],
+                [[lb, *(b["label_by_outcome"][lb][k] for k in outcomes), sum(b["label_by_outcome"][lb].values())]
+                 for lb in b["label_by_outcome"]] + [["all", *(b["outcomes"][k] for k in outcomes), n]])
+    for title, key in (("Never proposed: why (the robot's last look)", "never_proposed_reasons"),
+                       ("Attempted and failed: stage and reason of the last attempt", "attempted_failed_reasons")):
+        if b.get(key):
+            L += [f"{title}:", ""] + _table(["reason", "objects"], [[_short(k, 240), v] for k, v in b[key].items()])
+    return L
+
+
 def _md_segmentation_and_ends(r: dict) -> list[str]:
     s = r["segmentation"]
     L = ["## Segmentation at the scan", "",
@@ -160,7 +197,8 @@ def _md_rounds(r: dict) -> list[str]:
 def write_summary(result: dict, path: str | Path, json_path: Optional[str | Path] = None) -> Path:
     """``summary.md`` of the benchmark (the plots next to it)."""
     L = _md_head(result, json_path)
-    for section in (_md_published, _md_segmentation_and_ends, _md_failures, _md_objects, _md_rounds):
+    for section in (_md_published, _md_grasp_bound, _md_segmentation_and_ends, _md_failures, _md_objects,
+                    _md_rounds):
         L += section(result)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)

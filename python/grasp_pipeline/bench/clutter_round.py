@@ -5,8 +5,10 @@ scan, then one pick at a time with a fresh look after each attempt
 (:mod:`grasp_pipeline.orchestration.declutter`). Around it, subscribers score what the robot
 cannot know: which true object each attempt was aimed at and whether it ended in the tray
 (:class:`~grasp_pipeline.evaluation.pick_evaluator.PickEvaluator`), the segmentation of the
-scan's probe frames (:class:`~grasp_pipeline.evaluation.segmentation.ScanSegmentationRecorder`)
-and PNGs of every failed attempt. Afterwards the ground truth says whether the table is clear.
+scan's probe frames (:class:`~grasp_pipeline.evaluation.segmentation.ScanSegmentationRecorder`),
+each object's geometric bound and what happened to it
+(:class:`~grasp_pipeline.evaluation.object_outcomes.ObjectOutcomeRecorder`) and PNGs of every
+failed attempt. Afterwards the ground truth says whether the table is clear.
 
 :func:`run_round` never raises: an exception becomes the record's ``error``.
 """
@@ -19,7 +21,7 @@ import traceback
 from pathlib import Path
 from typing import Optional
 
-from .grasp_bench import exception_category, reason_category, scene_settings
+from .grasp_bench import exception_category, reason_category
 
 log = logging.getLogger(__name__)
 
@@ -27,6 +29,16 @@ log = logging.getLogger(__name__)
 END_CLEARED = "table cleared"
 #: A round whose run raised or failed.
 END_ERROR = "error"
+
+
+def clutter_settings(overrides: tuple = (None, ())):
+    """The run's parameter sets plus the evaluation's (``grasp_bound``), with ``(config_file,
+    sets)`` overrides (``--config``/``--set``)."""
+    from ..app.sim_system import SECTIONS
+    from ..settings import load_settings
+
+    config_file, sets = overrides
+    return load_settings((*SECTIONS, "grasp_bound"), config_file, list(sets))
 
 
 def round_scene(protocol: str, seed: int, objects: str, settings):
@@ -42,37 +54,42 @@ def _model_name(obj) -> str:
     return getattr(obj.mesh, "name", None) or obj.kind
 
 
-def objects_on_table(world) -> int:
-    """How many objects still rest over the table top (ground truth): not in the tray, not
+def names_on_table(world) -> list[str]:
+    """The objects still resting over the table top (ground truth): not in the tray, not
     fallen to the floor."""
     from ..sim.ground_truth import object_truths
 
     cell = world.work_cell
     top_z = float(cell.table.center[2] + 0.5 * cell.table.extents[2])
-    n = 0
-    for t in object_truths(world):
-        p = t.position_m
-        if cell.pick_target_note(p[:2], 0.0) is None and p[2] > top_z - 0.01:
-            n += 1
-    return n
+    return [t.name for t in object_truths(world)
+            if cell.pick_target_note(t.position_m[:2], 0.0) is None and t.position_m[2] > top_z - 0.01]
+
+
+def objects_on_table(world) -> int:
+    """How many objects still rest over the table top (:func:`names_on_table`)."""
+    return len(names_on_table(world))
 
 
 class _Observers:
     """The round's evaluation subscribers, attached through ``run_pipeline(prepare=...)``."""
 
-    def __init__(self, out_dir: Path, band_m: float) -> None:
-        self.out_dir, self.band_m = out_dir, band_m
+    def __init__(self, out_dir: Path, band_m: float, bound_config) -> None:
+        self.out_dir, self.band_m, self.bound_config = out_dir, band_m, bound_config
         self.system = None
         self.segmentation = None
+        self.outcomes = None
         self.failures = None
         self.view = None
 
     def __call__(self, system) -> None:
+        from ..evaluation.object_outcomes import ObjectOutcomeRecorder
         from ..evaluation.segmentation import ScanSegmentationRecorder
         from ..report.failure_recorder import FailureSnapshotRecorder
 
         self.system = system
         self.segmentation = ScanSegmentationRecorder(system.world, self.band_m).attach(system.events)
+        self.outcomes = ObjectOutcomeRecorder(system.world, system.loop, self.bound_config,
+                                              names_on_table).attach(system.events)
         self.failures = FailureSnapshotRecorder(self.out_dir / "failures", self._render()).attach(system.events)
 
     def _render(self):
@@ -106,9 +123,27 @@ def _attempt_row(p: dict, models: dict) -> dict:
     return row
 
 
+def _object_rows(spec, report: dict, attempts: list, obs: Optional[_Observers], error: Optional[str],
+                 models: dict, bound_config) -> list:
+    """Each object's bound and outcome (:mod:`grasp_pipeline.evaluation.object_outcomes`);
+    without a run (its process died, or it failed before building the world): the bounds where
+    the scene placed the objects."""
+    from ..evaluation.object_outcomes import rows_without_run
+
+    try:
+        if obs is not None and obs.outcomes is not None:
+            return obs.outcomes.rows(attempts, report.get("targets_skipped") or [],
+                                     report.get("end_reason") or "", error or report.get("error"), models)
+        return [] if spec is None or bound_config is None else rows_without_run(spec, bound_config, models, error)
+    except Exception:  # the scoring must not lose the round's record
+        log.error("objects' bounds and outcomes not scored:\n%s", traceback.format_exc())
+        return []
+
+
 def round_record(task: dict, spec, report: Optional[dict], obs: Optional[_Observers],
-                 error: Optional[str], wall_s: float) -> dict:
-    """The compact per-round record (see :mod:`.clutter_bench` for the fields)."""
+                 error: Optional[str], wall_s: float, bound_config=None) -> dict:
+    """The compact per-round record (see :mod:`.clutter_bench` for the fields);
+    ``bound_config``: the ``grasp_bound`` parameters when ``obs`` is None."""
     report = report or {}
     models = {o.name: _model_name(o) for o in spec.objects} if spec is not None else {}
     attempts = [_attempt_row(p, models) for p in report.get("picks") or []]
@@ -122,12 +157,13 @@ def round_record(task: dict, spec, report: Optional[dict], obs: Optional[_Observ
         end = END_CLEARED
     timings = {k: float(v) for k, v in (report.get("timings") or {}).items()}
     timings["wall_s"] = float(wall_s)
+    objects = _object_rows(spec, report, attempts, obs, error, models, bound_config)
     return {**task, "objects_placed": len(models), "models": models,
             "attempts": attempts, "successes": sum(a["success"] for a in attempts),
             "end_reason": end, "objects_left": left, "segmentation": seg,
             "error": error or report.get("error"),
             "error_category": exception_category(error) if error else None,
-            "timings": timings}
+            "timings": timings, "object_outcomes": objects}
 
 
 def run_round(task: dict) -> dict:
@@ -136,13 +172,14 @@ def run_round(task: dict) -> dict:
     from ..app.run import run_pipeline
 
     t0 = time.perf_counter()
-    spec = obs = report = None
+    spec = obs = report = bound_config = None
     error = None
     try:
-        settings = scene_settings(task["overrides"])
+        settings = clutter_settings(task["overrides"])
+        bound_config = settings.grasp_bound
         spec = round_scene(task["protocol"], task["seed"], task["objects"], settings)
         out = Path(task["out_dir"])
-        obs = _Observers(out, settings.scene_filter.band)
+        obs = _Observers(out, settings.scene_filter.band, bound_config)
         report = run_pipeline(scene=spec, seed=task["seed"], out_dir=out, json_path=out / "report.json",
                               settings=settings, video=False, declutter=True, prepare=obs,
                               rerun=task.get("recording")).to_dict()
@@ -154,4 +191,4 @@ def run_round(task: dict) -> dict:
         if obs is not None:
             obs.close()
     public = {k: v for k, v in task.items() if k not in ("overrides", "out_dir")}
-    return round_record(public, spec, report, obs, error, time.perf_counter() - t0)
+    return round_record(public, spec, report, obs, error, time.perf_counter() - t0, bound_config)

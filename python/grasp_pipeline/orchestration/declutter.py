@@ -40,7 +40,8 @@ END_ATTEMPTS = "attempt limit"
 @dataclass
 class DeclutterOutcome:
     """The attempts of one round (:class:`~grasp_pipeline.results.PickResult`) and why it
-    ended; ``skipped`` lists the tracks of the last look that were not targets."""
+    ended; ``skipped`` lists the tracks of the last look that were not targets (with ``why``:
+    the grasp checks' notes, or the grasp source proposing no grasp)."""
 
     attempts: list = field(default_factory=list)
     end_reason: str = ""
@@ -86,6 +87,16 @@ def grasp_offer(ctx: PickContext, xy) -> int:
     return OFFER_OTHER if ctx.source.propose(request) else OFFER_NONE
 
 
+def no_grasp_skip(ctx: PickContext, xy) -> dict:
+    """The ``skipped`` entry of an object the grasp source proposes no grasp for, with the
+    source's reason when it gives one (its ``last_refusal`` after :meth:`propose` returned none)."""
+    track, _ = nearest_track(ctx.loop.tracks(), xy)
+    why = f"grasp source {ctx.source.name!r} proposed no grasp"
+    refusal = (getattr(ctx.source, "last_refusal", "") or "") if track is not None else "no track there"
+    return {"tid": None if track is None else int(track.tid), "center": [float(xy[0]), float(xy[1])],
+            "why": f"{why}: {refusal}" if refusal else why}
+
+
 def best_score(ctx: PickContext, xy) -> float | None:
     """The score of the source's best grasp of the object at ``xy`` (None: no grasp)."""
     track, _ = nearest_track(ctx.loop.tracks(), xy)
@@ -95,23 +106,32 @@ def best_score(ctx: PickContext, xy) -> float | None:
     return float(getattr(grasps[0], "score", 0.0)) if grasps else None
 
 
-def choose_order(ctx: PickContext, targets: list, failed_anchors: list, config: DeclutterConfig) -> list:
+def _by_score(ctx: PickContext, targets: list, skipped: Optional[list]) -> list:
+    scored = [(best_score(ctx, t), k, t) for k, t in enumerate(targets)]
+    if skipped is not None:
+        skipped.extend(no_grasp_skip(ctx, t) for s, _, t in scored if s is None)
+    return [t for _, _, t in sorted((x for x in scored if x[0] is not None), key=lambda x: (-x[0], x[1]))]
+
+
+def choose_order(ctx: PickContext, targets: list, failed_anchors: list, config: DeclutterConfig,
+                 skipped: Optional[list] = None) -> list:
     """The round's target order: with ``order: score`` and a source that scores its grasps
     (not top-down only), the object with the best grasp first; else by accessibility (or
     nearest first), objects without a grasp fitted to their points after those with one
     (another object first: picking it may free them). Objects the source proposes no grasp
-    for are left out, failed places last."""
+    for are left out (and added to ``skipped`` when given), failed places last."""
     if config.order == "score" and not getattr(ctx.source, "top_down_only", True):
-        scored = [(best_score(ctx, t), k, t) for k, t in enumerate(targets)]
-        ranked = [t for s, _, t in sorted((x for x in scored if x[0] is not None),
-                                          key=lambda x: (-x[0], x[1]))]
-        return order_targets(ranked, failed_anchors, config.failed_anchor_radius_m)
+        return order_targets(_by_score(ctx, targets, skipped), failed_anchors, config.failed_anchor_radius_m)
     if config.order in ("accessibility", "score"):
         s = ctx.settings
         targets = rank_by_accessibility(targets, ctx.loop.tracks(), hand_clearances(),
                                         s.grasp.open_margin_m, s.obb.gripper_open - s.grasp.open_margin_m,
                                         config.free_space_enough_m)
-    offers = [grasp_offer(ctx, t) for t in targets]
+    offers = []
+    for t in targets:
+        offers.append(grasp_offer(ctx, t))
+        if offers[-1] == OFFER_NONE and skipped is not None:
+            skipped.append(no_grasp_skip(ctx, t))
     targets = [t for t, f in zip(targets, offers) if f == OFFER_FITTED] + \
         [t for t, f in zip(targets, offers) if f == OFFER_OTHER]
     return order_targets(targets, failed_anchors, config.failed_anchor_radius_m)
@@ -153,7 +173,7 @@ def clear_table(ctx: PickContext, cell, rough_tids: set, config: DeclutterConfig
     while True:
         targets, out.skipped = default_targets(ctx.loop.tracks(), cell, margin, rough_tids,
                                                ctx.loop.judge)
-        targets = choose_order(ctx, targets, failed_anchors, config)
+        targets = choose_order(ctx, targets, failed_anchors, config, out.skipped)
         if not targets:
             out.end_reason = END_NO_TARGET
             break

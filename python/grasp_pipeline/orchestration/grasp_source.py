@@ -133,6 +133,9 @@ class GeometricGraspSource:
         # neighbours seen well enough are the planner's point obstacles
         self.points_model = None if motion is None else PointModel.from_motion(motion)
         self._last_neighbours: Optional[tuple] = None  # (request, its Neighbours)
+        #: why the last :meth:`propose` returned no grasp ("" when it returned some)
+        self.last_refusal = ""
+        self._fit_note, self._box_notes = "", []
         # environment points as the planner holds them near the target: on its fine grid,
         # kept at its margin plus that grid's rounding (OccupancyMap.with_cleared_region)
         self.env_grid = (0.0, 0.005, 0.0) if motion is None else (
@@ -159,11 +162,16 @@ class GeometricGraspSource:
     def propose(self, request: GraspRequest) -> list:
         """Fitted grasps first, then SPEC 3's box grasps whose fingers' descent is free on the
         points (planning tries them in order: the box grasps are the last resort when no
-        fitted one can be planned)."""
-        return self.fitted(request) + self.from_box(request)
+        fitted one can be planned); none: :attr:`last_refusal` says why."""
+        fitted, boxes = self.fitted(request), self.from_box(request)
+        self.last_refusal = "" if fitted or boxes else (
+            f"no closing line passes the point checks ({self._fit_note or 'no points of it'}); "
+            f"box grasps: {'; '.join(self._box_notes) or 'none'}")
+        return fitted + boxes
 
     def fitted(self, request: GraspRequest) -> list:
         """Grasps fitted to the points, best first ([] without points or when none passes)."""
+        self._fit_note = ""
         if request.cloud is None or request.target is None or len(request.cloud) == 0:
             return []
         lines = fit_lines(request.target, request.cloud, self.hand, self.config, self.fit,
@@ -174,6 +182,7 @@ class GeometricGraspSource:
         if not ranked:
             reasons = sorted({ln.reason.split(" (")[0].split(" by ")[0].split(" unless")[0] if ln.reason else
                               "too far from the centroid" for ln in lines})
+            self._fit_note = "; ".join(sorted({r.split(":")[0] for r in reasons}))
             log.info("no closing line of #%d passes the point checks (%d tried: %s); box grasps",
                      request.target.tid, len(lines), "; ".join(reasons) or "no points of it")
             return []
@@ -203,6 +212,7 @@ class GeometricGraspSource:
         grasp pushing a finger into a neighbour, or one the planner would refuse at the
         pre-grasp, is not offered — the round picks another object first, as it does when no
         fitted grasp exists."""
+        self._box_notes = []
         if request.cloud is None or request.target is None or len(request.cloud) == 0:
             return grasps
         neighbours = self._neighbours(request)
@@ -213,6 +223,7 @@ class GeometricGraspSource:
                                     self.spheres, self.env_grid)
             if why:
                 log.info("box grasp of #%d not offered: %s", request.target.tid, why)
+                self._box_notes.append(why)
             else:
                 out.append(g)
         return out

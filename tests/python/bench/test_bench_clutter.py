@@ -20,7 +20,7 @@ SMALL = {"packed": ["--set", "clutter.objects_per_scene=2", "--rerun", "recs"], 
          "sparse": ["--set", "sim.object_count=[2,2]"]}
 REQUIRED = ("protocol", "rounds", "objects_placed", "attempts", "successes", "gsr", "dr", "seeds",
             "mean", "std", "failures_by_stage", "segmentation", "time_per_attempt_s",
-            "time_per_round_s", "success_by_object", "end_reasons", "round_rows")
+            "time_per_round_s", "success_by_object", "end_reasons", "round_rows", "grasp_bound")
 
 
 @pytest.fixture(scope="module")
@@ -76,6 +76,24 @@ def test_one_round_gives_the_vgn_metrics(runs, protocol):
     for a in row["attempts"]:  # every failed attempt has its PNGs (paths as the run was given them)
         assert a["success"] or (a["snapshots"] and all((d / p).exists() for p in a["snapshots"]))
     assert f"GSR" in stdout
+    _check_gap_to_geometry(res, row, (d / "out" / "summary.md").read_text())
+
+
+def _check_gap_to_geometry(res, row, summary):
+    """Every object placed has its bound and outcome; the picked ones are the successes."""
+    from grasp_pipeline.evaluation.grasp_bound import LABELS
+    from grasp_pipeline.evaluation.object_outcomes import OUTCOMES
+
+    b, objs = res["grasp_bound"], row["object_outcomes"]
+    assert len(objs) == row["objects_placed"] == b["objects"]
+    assert sorted(o["name"] for o in objs) == sorted(row["models"])
+    assert all(o["label"] in LABELS and o["outcome"] in OUTCOMES for o in objs)
+    assert b["picked"] == res["successes"] and sum(b["outcomes"].values()) == b["objects"]
+    assert sum(o["attempts"] for o in objs) <= res["attempts"]
+    for k in ("top_down", "tilted", "any_side"):
+        assert b[f"dr_{k}"] is None or 0.0 <= b[f"dr_{k}"] <= 1.0
+    assert b["config"]["max_width_m"] == 0.075
+    assert "## Gap to geometry" in summary and "DR against it" in summary
 
 
 def _round(index, seed, placed, outcomes, model="mug"):
@@ -103,6 +121,31 @@ def test_aggregate_pools_rounds_and_averages_seeds():
     assert res["success_by_object"]["mug"] == {"placed": 7, "attempts": 6, "picked": 4,
                                                "success_rate": round(4 / 6, 4)}
     assert res["rounds_per_hour"] == 60.0
+
+
+def test_aggregate_rates_the_picks_against_each_geometric_bound(tmp_path):
+    from grasp_pipeline.bench.clutter_plots import write_summary
+
+    rows = [_round(0, 1, 3, [(True, None), (False, "CLOSE")]), _round(1, 1, 2, [(True, None)])]
+    rows[0]["object_outcomes"] = [
+        {"name": "o0", "label": "top_down", "label_width_only": "top_down", "outcome": "picked"},
+        {"name": "o1", "label": "tilted", "label_width_only": "tilted", "outcome": "attempted_failed",
+         "stage": "CLOSE", "reason": "r"},
+        {"name": "o2", "label": "top_down", "label_width_only": "top_down", "outcome": "never_proposed",
+         "why": "grasp source 'geometric' proposed no grasp"}]
+    rows[1]["object_outcomes"] = [
+        {"name": "o0", "label": "none", "label_width_only": "any_side", "outcome": "picked"},
+        {"name": "o1", "label": "any_side", "label_width_only": "any_side", "outcome": "not_seen"}]
+    res = cb.aggregate(rows + [_round(2, 1, 1, [])], "pile", "builtin", [1], workers=1, wall_time_s=60.0)
+    b = res["grasp_bound"]  # (the third round has no object rows: counted nowhere)
+    assert b["objects"] == 5 and b["picked"] == 2 == res["successes"]
+    assert (b["dr_top_down"], b["dr_tilted"], b["dr_any_side"]) == (0.5, round(1 / 3, 4), 0.25)
+    assert b["dr_width_only"]["any_side"] == 0.4 and b["picked_outside_bound"] == 1
+    assert b["never_proposed_reasons"] == {"grasp source 'geometric' proposed no grasp": 1}
+    assert res["dr"] == round(2 / 6, 4)  # the existing figures unchanged
+    text = write_summary({**res, "out_dir": str(tmp_path)}, tmp_path / "summary.md").read_text()
+    assert "## Gap to geometry" in text and "| top_down (from straight above) | 2 (40.0 %) | 50.0 % |" in text
+    assert "| none | 1 | 0 | 0 | 0 | 0 | 0 | 0 | 0 | 1 |" in text
 
 
 def test_bad_protocol_and_object_folder_are_refused_before_any_round(tmp_path):

@@ -124,3 +124,28 @@ def test_a_target_without_a_grasp_after_its_closer_look_is_no_attempt(fake):
     assert all(a.success for a in out.attempts)
     assert out.end_reason == declutter.END_NO_TARGET and state["objects"] == [(0.40, 0.0)]
     assert any(s["why"].startswith("after a closer look") for s in out.skipped)
+
+
+def test_objects_the_source_proposes_nothing_for_are_skipped_with_the_reason(fake, monkeypatch):
+    ctx, _ = fake
+    offers = {(0.40, 0.0): declutter.OFFER_FITTED, (0.60, 0.0): declutter.OFFER_NONE}
+    monkeypatch.setattr(declutter, "grasp_offer", lambda _ctx, xy: offers[xy])
+    ctx.source.last_refusal = "no closing line passes the point checks (a finger blocked)"
+    skipped = [{"tid": 9, "center": [0.7, 0.0], "why": "near the tray"}]
+    out = declutter.choose_order(ctx, list(offers), [], DeclutterConfig(order="nearest"), skipped)
+    assert out == [(0.40, 0.0)]
+    assert skipped[1] == {"tid": 2, "center": [0.60, 0.0], "why": "grasp source 'fake' proposed no grasp: "
+                                                                   "no closing line passes the point checks (a finger blocked)"}
+    del ctx.source.last_refusal  # a source that gives no reason
+    skipped = []
+    declutter.choose_order(ctx, list(offers), [], DeclutterConfig(order="nearest"), skipped)
+    assert [s["why"] for s in skipped] == ["grasp source 'fake' proposed no grasp"]
+
+
+def test_a_round_ended_for_want_of_grasps_lists_every_object_as_skipped(fake):
+    ctx, state = fake
+    ctx.source = SimpleNamespace(name="s", propose=lambda request: [])
+    out = declutter.clear_table(ctx, _Cell(), {0, 1, 2}, DeclutterConfig(order="nearest"))
+    assert out.end_reason == declutter.END_NO_TARGET
+    assert sorted(s["tid"] for s in out.skipped) == [0, 1, 2]
+    assert all(s["why"] == "grasp source 's' proposed no grasp" for s in out.skipped)

@@ -188,6 +188,19 @@ def test_the_source_proposes_fitted_grasps_with_points_and_none_without_a_box_gr
     assert np.allclose(R[:, 0], [0, 0, -1]) and abs(np.linalg.det(R) - 1) < 1e-9
 
 
+def test_the_source_says_why_it_proposes_no_grasp():
+    src = GeometricGraspSource(GRASP, HAND, CFG)
+    wide = block(0.50, 0.60, 0.00, 0.10, 0.0, 0.04)  # 100 mm both ways: wider than the 60 mm opening
+    req = GraspRequest((0.55, 0.05), track_of(0, wide), None, PerceivedScene(np.zeros((0, 3))), 0.06,
+                       cloud=scene((0, wide), (ENV, table())))
+    assert src.propose(req) == []
+    assert src.refusal.startswith("no closing line passes the point checks (") and "box grasps: none" in src.refusal
+    assert "too wide to close on" in src.refusal
+    cube = block(0.50, 0.54, 0.00, 0.04, 0.0, 0.04)
+    assert src.propose(replace(req, target=track_of(0, cube), cloud=scene((0, cube), (ENV, table()))))
+    assert src.refusal == ""
+
+
 def test_a_stack_seen_as_one_cluster_is_grasped_by_its_upper_box():
     lower = block(0.48, 0.56, -0.02, 0.035, 0.0, 0.028)
     upper = block(0.505, 0.535, 0.0, 0.03, 0.028, 0.058)
