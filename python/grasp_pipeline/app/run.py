@@ -125,7 +125,7 @@ def _stages(system: System, settings: Settings, report: RunReport, snapshots, se
         select = _resolve_picks(system, settings, report, pick, observations)
     t0, sim0 = time.perf_counter(), float(system.world.time_s)
     ctx = PickContext(system.rt, system.loop, system.action, system.scanner if scan else None,
-                      settings, source, place)
+                      settings, source, place, side_view=system.side_view if scan else None)
     if declutter and not select:
         out = clear_table(ctx, system.cell, rough_tids, settings.declutter,
                           on_attempt=report.picks.append)

@@ -28,6 +28,7 @@ from .. import _core
 from ..motion.occupancy import cell_rounding_m, cleared_cell_m, cleared_rounding_m
 from ..motion.object_points import PointModel
 from ..motion.perceived_scene import PerceivedScene
+from ..perception.scene_volume import SceneVolume
 from ..motion.robot_spheres import hand_spheres_in_tcp
 from ..robot.description import GRIPPER_MAX_WIDTH_M, HandClearances, hand_clearances, load_robot_model
 from .config import GraspConfig, GraspFitConfig
@@ -47,7 +48,9 @@ class GraspRequest:
     the selection published for it (SPEC 5) or None; ``scene``: the perceived scene (points,
     boxes); ``max_width_m``: the widest object the gripper can close on with its margin;
     ``cloud``: the scene's labelled points (:class:`~.scene_cloud.SceneCloud`) or None;
-    ``min_width_m``: the narrowest graspable width."""
+    ``min_width_m``: the narrowest graspable width; ``volume``: the scene volume
+    (:class:`~grasp_pipeline.perception.scene_volume.SceneVolume`: which places were seen
+    free, occupied, or never seen) or None."""
 
     anchor_xy: tuple[float, float]
     target: Optional[object]
@@ -56,6 +59,7 @@ class GraspRequest:
     max_width_m: float
     cloud: Optional[SceneCloud] = None
     min_width_m: float = 0.005
+    volume: Optional[SceneVolume] = None
 
 
 @runtime_checkable
