@@ -198,11 +198,10 @@ VolumeIntegration SceneVolume::integrate(const float* depth, const PinholeCamera
         const double x = p0.x() + k * dx.x(), y = p0.y() + k * dx.y(), z = p0.z() + k * dx.z();
         if (!(z > kNearZ_m)) continue;
         const double inv = 1.0 / z;
-        const int u = static_cast<int>(std::floor(fx * x * inv + cx + 0.5));
-        const int v = static_cast<int>(std::floor(fy * y * inv + cy + 0.5));
-        if (static_cast<unsigned>(u) >= static_cast<unsigned>(cam.width) ||
-            static_cast<unsigned>(v) >= static_cast<unsigned>(cam.height))
-          continue;
+        const double fu = fx * x * inv + cx + 0.5, fv = fy * y * inv + cy + 0.5;  // nearest pixel + 0.5
+        if (!(fu >= 0.0 && fv >= 0.0)) continue;  // (a truncating cast is floor from here on)
+        const int u = static_cast<int>(fu), v = static_cast<int>(fv);
+        if (u >= cam.width || v >= cam.height) continue;
         ++out.voxels_in_view;
         const float d = depth[static_cast<std::size_t>(v) * row_stride + u];
         if (!(d > 0.f && d <= max_range)) continue;
