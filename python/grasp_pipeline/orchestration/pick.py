@@ -162,15 +162,18 @@ def _run_action(ctx: PickContext, xy, sel, row: PickResult):
         loop.selector.clear()
         attempted = next((t.smoothed for t in loop.tracks() if t.tid == sel.tid), None)
         rt.events.publish(StageEvent(float(rt.world.time_s), "pick_start", f"{xy[0]} {xy[1]}"))
+        out = None
         try:
-            return rt.run(action.task, ctx.settings.grasp.pick_timeout_s)
+            out = rt.run(action.task, ctx.settings.grasp.pick_timeout_s)
+            return out
         except TimeoutError as exc:  # the task was closed: the arm holds where it is
             rt.world.hold()
             row.failed_stage = action.stage.value if action.stage else "GRASP"
             row.message = f"{exc}; the arm holds"
             return None
         finally:
-            _forget_attempted(ctx, attempted)
+            if out is None or any(stage != "PRE_GRASP" for stage, _ in out.stages):
+                _forget_attempted(ctx, attempted)  # the hand went down to the object
     finally:
         loop.selector.clear()
 
