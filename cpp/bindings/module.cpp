@@ -14,11 +14,12 @@ void bind_tracker(py::module_& m);
 void bind_perception(py::module_& m);
 void bind_collision(py::module_& m);
 void bind_ik(py::module_& m);
+void bind_scene_volume(py::module_& m);
 }  // namespace grasp_bind
 
 PYBIND11_MODULE(_core, m) {
   m.doc() = "grasp_pipeline perception core (C++17, Eigen, PCL): scene filter, object "
-            "estimates, grasp pose math, tracker, the per-frame Perception entry point, the planning state checker and the arm IK refinement";
+            "estimates, grasp pose math, tracker, the per-frame Perception entry point, the planning state checker, the arm IK refinement and the scene volume";
   grasp_bind::bind_types(m);
   grasp_bind::bind_scene_filter(m);
   grasp_bind::bind_estimate(m);
@@ -26,4 +27,5 @@ PYBIND11_MODULE(_core, m) {
   grasp_bind::bind_perception(m);
   grasp_bind::bind_collision(m);
   grasp_bind::bind_ik(m);
+  grasp_bind::bind_scene_volume(m);
 }

@@ -2,7 +2,7 @@
 # then tidied by hand (numpy types, aliases below). tests/python/core/test_core_stubs.py
 # fails when the module gains a public name the stubs do not declare.
 """
-grasp_pipeline perception core (C++17, Eigen, PCL): scene filter, object estimates, grasp pose math, tracker, the per-frame Perception entry point, the planning state checker and the arm IK refinement
+grasp_pipeline perception core (C++17, Eigen, PCL): scene filter, object estimates, grasp pose math, tracker, the per-frame Perception entry point, the planning state checker, the arm IK refinement and the scene volume
 """
 from __future__ import annotations
 from collections.abc import Sequence
@@ -22,7 +22,7 @@ Mat3Like: typing.TypeAlias = numpy.typing.ArrayLike
 #: points are taken (labelled LABEL_INVALID where labels are returned).
 Points: typing.TypeAlias = numpy.typing.NDArray[numpy.float32] | numpy.typing.NDArray[numpy.float64]
 #
-# Threads: the stateful classes (Perception, SceneFilter, PlanePersistence, Tracker) are
+# Threads: the stateful classes (Perception, SceneFilter, PlanePersistence, Tracker, SceneVolume) are
 # thread-safe by serialisation: each instance has a mutex (views such as
 # Perception.scene_filter / .tracker and SceneFilter.persistence share their owner's); the
 # GIL is released while a call waits for it and while a frame is processed. Parameter
@@ -1131,6 +1131,183 @@ class Perception:
         """
         the tracker (a view sharing this object's lifetime and mutex)
         """
+class SceneVolumeParams:
+    """
+    Parameters of a SceneVolume (config/volume.yaml); ranges: validate()
+    """
+    def __init__(self) -> None:
+        ...
+    def validate(self) -> None:
+        """
+        raise ValueError naming the first parameter out of range
+        """
+    @property
+    def box_min_m(self) -> Vec3:
+        """
+        world box, lower corner (x, y, z) [m]
+        """
+    @box_min_m.setter
+    def box_min_m(self, arg1: Vec3Like) -> None:
+        ...
+    @property
+    def box_max_m(self) -> Vec3:
+        """
+        world box, upper corner [m] (rounded up to whole voxels)
+        """
+    @box_max_m.setter
+    def box_max_m(self, arg1: Vec3Like) -> None:
+        ...
+    @property
+    def voxel_m(self) -> float:
+        ...
+    @voxel_m.setter
+    def voxel_m(self, arg1: float) -> None:
+        ...
+    @property
+    def truncation_m(self) -> float:
+        ...
+    @truncation_m.setter
+    def truncation_m(self, arg1: float) -> None:
+        ...
+    @property
+    def logodds_hit(self) -> float:
+        ...
+    @logodds_hit.setter
+    def logodds_hit(self, arg1: float) -> None:
+        ...
+    @property
+    def logodds_miss(self) -> float:
+        ...
+    @logodds_miss.setter
+    def logodds_miss(self, arg1: float) -> None:
+        ...
+    @property
+    def logodds_min(self) -> float:
+        ...
+    @logodds_min.setter
+    def logodds_min(self, arg1: float) -> None:
+        ...
+    @property
+    def logodds_max(self) -> float:
+        ...
+    @logodds_max.setter
+    def logodds_max(self, arg1: float) -> None:
+        ...
+class VolumeIntegration:
+    """
+    What one SceneVolume.integrate() call did
+    """
+    @property
+    def voxels_in_view(self) -> int:
+        """
+        voxels whose centre projected into the image (up to the far bound)
+        """
+    @property
+    def voxels_free(self) -> int:
+        """
+        of those: free evidence
+        """
+    @property
+    def voxels_occupied(self) -> int:
+        """
+        of those: occupied evidence
+        """
+    @property
+    def valid_pixels(self) -> int:
+        """
+        depth pixels finite, > 0 and <= max_range_m
+        """
+    @property
+    def ms(self) -> float:
+        """
+        wall time of the call [ms]
+        """
+class VolumeCounts:
+    """
+    Voxel states counted over a query box
+    """
+    @property
+    def unknown(self) -> int:
+        ...
+    @property
+    def free(self) -> int:
+        ...
+    @property
+    def occupied(self) -> int:
+        ...
+    @property
+    def outside(self) -> int:
+        """
+        lattice cells of the query box outside the volume
+        """
+class SceneVolume:
+    """
+    Log-odds occupancy over a world box, carved by every depth ray: each place is VOXEL_UNKNOWN (never seen), VOXEL_FREE, VOXEL_OCCUPIED, or VOXEL_OUTSIDE the box. Thread-safe: calls are serialised by a mutex (the GIL is released meanwhile).
+    """
+    def __init__(self, params: SceneVolumeParams) -> None:
+        ...
+    def integrate(self, depth: numpy.typing.NDArray[numpy.float32] | numpy.typing.NDArray[numpy.float64], K: Mat3Like, T_world_camera: numpy.typing.ArrayLike, max_range_m: float) -> VolumeIntegration:
+        """
+        Integrate one depth image (H, W) float32 [m along the optical axis; NaN, <= 0 or > max_range_m: no measurement] taken with intrinsics K (3, 3) from the optical frame T_world_camera (4, 4): voxels in front of the measured surface by more than truncation_m gain free evidence, those within +-truncation_m occupied evidence, those behind nothing.
+        """
+    def classify(self, points: numpy.typing.ArrayLike) -> numpy.typing.NDArray[numpy.int8]:
+        """
+        int8 state of each point (N, 3) [m, world]: VOXEL_UNKNOWN, VOXEL_FREE, VOXEL_OCCUPIED; VOXEL_OUTSIDE outside the box and for NaN rows.
+        """
+    def occupied_centres(self, box_min: Vec3Like, box_max: Vec3Like) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        (M, 3) centres of the occupied voxels whose centre lies in the box [m].
+        """
+    def states_in_box(self, box_min: Vec3Like, box_max: Vec3Like) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.int8]]:
+        """
+        (centres (M, 3), states (M,) int8) of every voxel whose centre lies in the box.
+        """
+    def count_states(self, box_min: Vec3Like, box_max: Vec3Like) -> VolumeCounts:
+        """
+        VolumeCounts over the lattice cells whose centre lies in the box.
+        """
+    def visible(self, points: numpy.typing.ArrayLike, K: Mat3Like, width: int, height: int, T_world_camera: numpy.typing.ArrayLike, min_range_m: float, max_range_m: float) -> numpy.typing.NDArray[numpy.bool_]:
+        """
+        (N,) bool: would a camera (K, width x height px) at T_world_camera see each point? Its depth within [min_range_m, max_range_m], inside the image, and no OCCUPIED voxel on the line from the camera centre to it (UNKNOWN voxels do not block).
+        """
+    def reset(self) -> None:
+        """
+        forget everything: every voxel UNKNOWN
+        """
+    def reset_box(self, box_min: Vec3Like, box_max: Vec3Like) -> None:
+        """
+        forget the voxels whose centre lies in the box
+        """
+    @property
+    def params(self) -> SceneVolumeParams:
+        """
+        a copy of the parameters
+        """
+    @property
+    def shape(self) -> list[int]:
+        """
+        voxels along x, y, z
+        """
+    @property
+    def box_min_m(self) -> Vec3:
+        """
+        lower corner of the grid [m]
+        """
+    @property
+    def box_max_m(self) -> Vec3:
+        """
+        upper corner of the grid [m] (box_min_m + shape * voxel_m)
+        """
+    @property
+    def memory_bytes(self) -> int:
+        """
+        bytes of the voxel array
+        """
+    @property
+    def frames_integrated(self) -> int:
+        """
+        integrate() calls since construction or the last reset()
+        """
 def angle_dist_mod_pi(a_rad: float, b_rad: float) -> float:
     ...
 def anisotropy_ratio(ext: Sequence[float]) -> float:
@@ -1217,3 +1394,7 @@ def wrap_mod_pi(x_rad: float) -> float:
     ...
 LABEL_ENVIRONMENT: int = -1
 LABEL_INVALID: int = -2
+VOXEL_FREE: int = 1
+VOXEL_OCCUPIED: int = 2
+VOXEL_OUTSIDE: int = 3
+VOXEL_UNKNOWN: int = 0

@@ -45,6 +45,23 @@ class ProbeResult:
 
 
 @dataclass
+class SideViewResult:
+    """(ours) The side view before a pick: how much of the target's shell was unknown (worst
+    face, and per face), the view taken (None: none), and what it cost."""
+
+    tid: int
+    unknown_before: float = 0.0
+    unknown_after: Optional[float] = None
+    faces_before: dict = field(default_factory=dict)
+    faces_after: dict = field(default_factory=dict)
+    view: Optional[dict] = None     # azimuth_deg, elevation_deg, distance_m, expected_fraction
+    moved: bool = False
+    message: str = ""
+    sim_s: float = 0.0              # simulated time it took [s]
+    cpu_s: float = 0.0              # CPU time of the main thread [s]
+
+
+@dataclass
 class ScanOutcome:
     """What the scan task returns."""
 
@@ -108,6 +125,7 @@ class PickResult:
     selected: str = ""
     object: Optional[str] = None
     reprobed: Optional[bool] = None
+    side_view: Optional[SideViewResult] = None   # (ours) the look at the target's sides
     grasp_source: str = ""
     wall_s: Optional[float] = None   # wall-clock time of the whole pick [s]
     snapshots: list = field(default_factory=list)   # PNGs written for this pick (failures)

@@ -30,6 +30,7 @@ SECTIONS: Mapping[str, tuple[str, str]] = MappingProxyType({
     "scene_filter": ("grasp_pipeline.perception.config", "SceneFilterConfig"),
     "obb": ("grasp_pipeline.perception.config", "ObbConfig"),
     "workspace": ("grasp_pipeline.perception.workspace", "WorkspaceConfig"),
+    "volume": ("grasp_pipeline.perception.volume_config", "VolumeConfig"),
     "camera": ("grasp_pipeline.sim.config", "CameraConfig"),
     "sim": ("grasp_pipeline.sim.config", "SimConfig"),
     "clutter": ("grasp_pipeline.sim.clutter_config", "ClutterConfig"),

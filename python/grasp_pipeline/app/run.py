@@ -126,7 +126,7 @@ def _stages(system: System, settings: Settings, report: RunReport, snapshots, se
         select = _resolve_picks(system, settings, report, pick, observations)
     t0, sim0 = time.perf_counter(), float(system.world.time_s)
     ctx = PickContext(system.rt, system.loop, system.action, system.scanner if scan else None,
-                      settings, source, place)
+                      settings, source, place, side_view=system.side_view)
     if declutter and not select:
         out = clear_table(ctx, system.cell, rough_tids, settings.declutter,
                           on_attempt=report.picks.append)
@@ -136,6 +136,18 @@ def _stages(system: System, settings: Settings, report: RunReport, snapshots, se
             report.picks.append(pick_object(ctx, xy))
     report.timings["picks_s"] = time.perf_counter() - t0
     _real_time(report, "picks", float(system.world.time_s) - sim0, report.timings["picks_s"])
+    _volume_cost(system, report)
+
+
+def _volume_cost(system: System, report: RunReport) -> None:
+    """The scene volume's integration cost (CPU seconds of the frames it integrated)."""
+    volume = system.loop.volume
+    if volume is None:
+        return
+    st = volume.stats
+    report.timings["volume_integrate_cpu_s"] = st.integrate_cpu_s
+    log.info("scene volume: %d of %d frames integrated, %.2f s CPU (%.1f ms a frame)", st.frames_integrated,
+             st.frames_offered, st.integrate_cpu_s, 1e3 * st.integrate_cpu_s / max(1, st.frames_integrated))
 
 
 def _real_time(report: RunReport, name: str, sim_s: float, wall_s: float) -> None:

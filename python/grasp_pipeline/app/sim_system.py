@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Optional
 
 import numpy as np
 
@@ -11,7 +12,9 @@ from ..motion.motion_planner import MotionPlanner
 from ..motion.work_cell import WorkCell
 from ..orchestration import (ActiveScan, EventBus, GraspAction, MotionClient, PerceptionLoop,
                              Runtime)
+from ..orchestration.side_view import SideView
 from ..perception import PerceptionSession
+from ..perception.scene_volume import SceneVolume
 from ..robot.description import GRIPPER_MAX_WIDTH_M, flange_T_camera
 from ..settings import Settings
 from ..sim.scene_spec import SceneSpec
@@ -20,7 +23,7 @@ from ..sim.world import SimWorld
 
 #: The parameter sets a simulated run uses.
 SECTIONS = ("scene_filter", "obb", "camera", "sim", "clutter", "motion", "scan", "grasp",
-            "grasp_fit", "grasp_sampler", "declutter", "video", "language", "rerun")
+            "grasp_fit", "grasp_sampler", "declutter", "video", "language", "rerun", "volume")
 
 
 @dataclass
@@ -36,6 +39,7 @@ class System:
     cell: WorkCell
     start_q: np.ndarray
     events: EventBus = field(default_factory=EventBus)
+    side_view: Optional[SideView] = None
 
     def close(self) -> None:
         self.world.close()
@@ -75,7 +79,8 @@ def build_system(spec, settings: Settings, events: EventBus | None = None) -> Sy
     try:
         session = PerceptionSession(settings.scene_filter, settings.obb)
         loop = PerceptionLoop(session, settings.scan, ready_camera_pose=world.camera_pose(),
-                              events=events, camera=world, fit_config=settings.grasp_fit)
+                              events=events, camera=world, fit_config=settings.grasp_fit,
+                              volume=SceneVolume(settings.volume))
         world.add_frame_listener(lambda f: loop.on_frame(f, world.q))
         rt = Runtime(world, events)
         cell = world.work_cell
@@ -85,7 +90,9 @@ def build_system(spec, settings: Settings, events: EventBus | None = None) -> Sy
                              max_width_m=settings.obb.gripper_open - settings.grasp_fit.min_open_margin_m)
         action = GraspAction(rt, loop, motion, settings.grasp, work_cell=cell, home_q=start_q,
                              events=events)
+        side_view = SideView(rt, loop, motion, flange_T_camera(world.model), settings.volume,
+                             settings.scan) if settings.volume.side_view else None
     except BaseException:
         world.close()
         raise
-    return System(world, loop, rt, motion, scanner, action, cell, start_q, events)
+    return System(world, loop, rt, motion, scanner, action, cell, start_q, events, side_view)

@@ -28,6 +28,7 @@ from .. import _core
 from ..motion.occupancy import cell_rounding_m, cleared_cell_m, cleared_rounding_m
 from ..motion.object_points import PointModel
 from ..motion.perceived_scene import PerceivedScene
+from ..perception.scene_volume import SceneVolume
 from ..motion.robot_spheres import hand_spheres_in_tcp
 from ..robot.description import GRIPPER_MAX_WIDTH_M, HandClearances, hand_clearances, load_robot_model
 from .config import GraspConfig, GraspFitConfig
@@ -49,8 +50,10 @@ class GraspRequest:
     ``cloud``: the scene's labelled points (:class:`~.scene_cloud.SceneCloud`) or None;
     ``min_width_m``: the narrowest graspable width; ``reach(grasp, pre_grasp_distance_m)``:
     the grasp with the hand orientation the arm reaches, or None when it reaches neither
-    (:class:`~.grasping.reach.ArmReach`; None: not checked); ``unknown(points)``: True for
-    the points (N, 3) no camera has seen (None: not known)."""
+    (:class:`~.grasping.reach.ArmReach`; None: not checked); ``volume``: the scene volume
+    (:class:`~grasp_pipeline.perception.scene_volume.SceneVolume`: which places were seen
+    free, occupied, or never seen) or None; ``unknown(points)``: True for the points (N, 3)
+    no camera has seen free (from the volume; None: not known)."""
 
     anchor_xy: tuple[float, float]
     target: Optional[object]
@@ -60,6 +63,7 @@ class GraspRequest:
     cloud: Optional[SceneCloud] = None
     min_width_m: float = 0.005
     reach: Optional[Callable] = None
+    volume: Optional[SceneVolume] = None
     unknown: Optional[Callable] = None
 
 

@@ -35,6 +35,7 @@ import numpy as np
 
 from .. import _core
 from ..perception import FrameResult, PerceptionSession
+from ..perception.scene_volume import SceneVolume
 from .config import GraspFitConfig, ScanConfig
 from .events import EventBus, FrameEvent, PerceptionEvent
 from .scene_cloud import SceneCloud, cloud_from_frame
@@ -61,11 +62,15 @@ class PerceptionLoop:
     def __init__(self, session: PerceptionSession, scan_config: ScanConfig | None = None,
                  ready_camera_pose: Optional[np.ndarray] = None,
                  events: Optional[EventBus] = None, camera=None,
-                 fit_config: Optional[GraspFitConfig] = None) -> None:
+                 fit_config: Optional[GraspFitConfig] = None,
+                 volume: Optional[SceneVolume] = None) -> None:
         """``camera``: the robot's camera (its ``looking_time_s`` clocks liveness); None:
         liveness on the frames' simulated time. ``fit_config``: the scene cloud's voxel and
-        the support rule (:mod:`.support`) that judges which objects are graspable."""
+        the support rule (:mod:`.support`) that judges which objects are graspable.
+        ``volume``: the scene volume every frame is offered to (its policy decides which it
+        integrates); None: no volume."""
         self.session = session
+        self.volume = volume
         self.camera = camera
         self._looked_at_frame_s: Optional[float] = None  # looking clock at the latest frame
         self.events = events if events is not None else EventBus()
@@ -94,6 +99,8 @@ class PerceptionLoop:
             self.events.publish(FrameEvent(float(frame.time_s), frame, None if q is None else np.array(q)))
         res = self.session.process(frame.points_world, T[:3, 3], frame.time_s,
                                    image_width_px=frame.width, rgb=frame.rgb)
+        if self.volume is not None:
+            self.volume.offer(frame)
         if self.ready_camera_pose is None:
             self.ready_camera_pose = T.copy()
         self.latest = FrameInfo(float(frame.time_s), T, res, None if q is None else np.array(q))
@@ -160,7 +167,10 @@ class PerceptionLoop:
     def forget_tracks(self) -> None:
         """Forget every track but keep the plane lock and the liveness state: the next
         frames describe the table anew (after a pick attempt the objects may have moved).
-        Drops the selection too (its anchor referred to the old tracks)."""
+        Drops the selection too (its anchor referred to the old tracks). The scene volume is
+        kept: the pick forgot the attempted target's surroundings in it already
+        (:meth:`~grasp_pipeline.perception.scene_volume.SceneVolume.forget_after_attempt`)
+        and the next frames carve what moved elsewhere."""
         self.session.tracker.reset()
         self.selector.clear()
 

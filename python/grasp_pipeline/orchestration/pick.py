@@ -13,7 +13,10 @@
    again;
 3. select by position (SPEC 5) and verify that best grasps actually arrive (a dead upstream
    must not look like success);
-4. ask the :class:`~.grasp_source.GraspSource` for candidates and run the grasp action.
+4. (ours) when a side view is configured (``PickContext.side_view``) and the target's sides
+   are mostly unknown in the scene volume, look at them first (:mod:`.side_view`);
+5. ask the :class:`~.grasp_source.GraspSource` for candidates and run the grasp action; after
+   an attempt, the scene volume forgets the target's surroundings (objects may have moved).
 
 It publishes ``StageEvent("pick_start", "x y")`` when the grasp starts and a
 :class:`~.events.PickEvent` at the end (evaluation subscribers may add ground truth to the
@@ -37,6 +40,7 @@ from .grasp_source import GeometricGraspSource, GraspRequest, GraspSource
 from .grasping.reach import ArmReach
 from .scene_model import snapshot
 from .selection import check_selection
+from .side_view import look_at_sides
 
 log = logging.getLogger("grasp_pipeline.pick")
 
@@ -52,6 +56,7 @@ class PickContext:
     settings: object      # Settings: scan, grasp, obb, motion
     source: GraspSource = field(default_factory=GeometricGraspSource)
     place: bool = True
+    side_view: Optional[object] = None  # SideView (None: no look at the target's sides)
 
 
 def _reprobe_centre(ctx: PickContext, xy) -> Optional[np.ndarray]:
@@ -88,6 +93,24 @@ def reprobe_if_needed(ctx: PickContext, xy, row: PickResult) -> None:
     ctx.rt.spin(ctx.settings.scan.settle_view_s)
 
 
+def side_view_if_needed(ctx: PickContext, xy, row: PickResult) -> None:
+    """Look at the sides of the object at ``xy`` when they are mostly unknown (:mod:`.side_view`)."""
+    if ctx.side_view is None:
+        return
+    track = ctx.loop.nearest_track(np.asarray(xy, float))
+    if track is None:
+        return
+    row.side_view = look_at_sides(ctx.side_view, track, ctx.settings.scan.scan_timeout_s)
+
+
+def _forget_attempted(ctx: PickContext, estimate) -> None:
+    """The scene volume forgets the surroundings of the attempted target (``estimate``: its
+    box before the attempt; it may have moved)."""
+    volume = getattr(ctx.loop, "volume", None)
+    if volume is not None and estimate is not None:
+        volume.forget_after_attempt(estimate.center, estimate.R_box, estimate.extents)
+
+
 def _select_and_verify(ctx: PickContext, xy, row: PickResult):
     """The selection result, or None with ``row`` marked as a SELECT failure."""
     loop, scan_cfg = ctx.loop, ctx.settings.scan
@@ -117,11 +140,12 @@ def grasp_request(ctx: PickContext, xy, target, check_collisions: bool = False) 
         motion.set_scene(scene.without_fragments(int(target.tid), s.grasp.fragment_margin_m),
                          int(target.tid))
     reach = ArmReach(motion.planner, motion.q_cmd, ctx.rt.world.tcp_pose(), check_collisions)
+    volume = getattr(loop, "volume", None)
     return GraspRequest(anchor_xy=(float(xy[0]), float(xy[1])), target=target,
                         published=loop.selector.best_grasp, scene=scene,
                         max_width_m=s.obb.gripper_open - s.grasp.open_margin_m,
                         cloud=loop.scene_cloud(), min_width_m=s.obb.min_graspable_width,
-                        reach=reach)
+                        reach=reach, volume=volume, unknown=None if volume is None else volume.not_free)
 
 
 def _candidates(ctx: PickContext, xy, sel) -> list:
@@ -147,14 +171,20 @@ def _run_action(ctx: PickContext, xy, sel, row: PickResult, decline: bool = Fals
         # The action holds its goal now: stop re-resolving the anchor (once the object is
         # lifted there is nothing left to publish there, and that is no news).
         loop.selector.clear()
+        attempted = next((t.smoothed for t in loop.tracks() if t.tid == sel.tid), None)
         rt.events.publish(StageEvent(float(rt.world.time_s), "pick_start", f"{xy[0]} {xy[1]}"))
+        out = None
         try:
-            return rt.run(action.task, ctx.settings.grasp.pick_timeout_s)
+            out = rt.run(action.task, ctx.settings.grasp.pick_timeout_s)
+            return out
         except TimeoutError as exc:  # the task was closed: the arm holds where it is
             rt.world.hold()
             row.failed_stage = action.stage.value if action.stage else "GRASP"
             row.message = f"{exc}; the arm holds"
             return None
+        finally:
+            if out is None or any(stage != "PRE_GRASP" for stage, _ in out.stages):
+                _forget_attempted(ctx, attempted)  # the hand went down to the object
     finally:
         loop.selector.clear()
 
@@ -189,6 +219,7 @@ def pick_object(ctx: PickContext, xy, decline_without_grasp: bool = False) -> Pi
     row = PickResult(anchor=[float(xy[0]), float(xy[1])], grasp_source=ctx.source.name)
     if ctx.scanner is not None:
         reprobe_if_needed(ctx, xy, row)
+    side_view_if_needed(ctx, xy, row)
     out = None
     sel = _select_and_verify(ctx, xy, row)
     if sel is not None:

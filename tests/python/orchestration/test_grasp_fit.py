@@ -194,11 +194,11 @@ def test_the_source_says_why_it_proposes_no_grasp():
     req = GraspRequest((0.55, 0.05), track_of(0, wide), None, PerceivedScene(np.zeros((0, 3))), 0.06,
                        cloud=scene((0, wide), (ENV, table())))
     assert src.propose(req) == []
-    assert src.refusal.startswith("no closing line passes the point checks (") and "box grasps: none" in src.refusal
-    assert "too wide to close on" in src.refusal
+    assert src.last_refusal.startswith("no closing line passes the point checks (") and "box grasps: none" in src.last_refusal
+    assert "too wide to close on" in src.last_refusal
     cube = block(0.50, 0.54, 0.00, 0.04, 0.0, 0.04)
     assert src.propose(replace(req, target=track_of(0, cube), cloud=scene((0, cube), (ENV, table()))))
-    assert src.refusal == ""
+    assert src.last_refusal == ""
 
 
 def test_a_stack_seen_as_one_cluster_is_grasped_by_its_upper_box():

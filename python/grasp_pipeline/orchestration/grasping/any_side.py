@@ -144,7 +144,7 @@ class AnySideGraspSource:
         dirs = np.vstack([dirs, a2])
         tilt = np.r_[tilt, t2]
         axes += [c[None, :] for c in c2]
-        return build_frames(target.points, target.centroid, dirs, tilt, axes, cfg.line_step_m, cfg.lines)
+        return build_frames(target.points, target.centroid, dirs, tilt, axes, cfg.line_spacing_m, cfg.lines)
 
     def _limits(self, request) -> ContactLimits:
         g, f = self.grasp_config, self.fit
@@ -228,7 +228,7 @@ class AnySideGraspSource:
         order = keep[np.argsort(-s[keep], kind="stable")]
         order = dedupe(order, origins, sub.a, sub.c, cfg.duplicate_distance_m, cfg.duplicate_angle_deg)
         grasps = [self._grasp(request, sub, origins, con, k, s[k], free[k]) for k in order]
-        grasps = self._reach_sorted(request, grasps)[: cfg.max_candidates]
+        grasps = self._reach_sorted(request, grasps)[: cfg.max_proposals]
         if grasps:
             log.info("#%d: %d any-side grasps (best: tilt %.0f deg, width %.1f mm, score %.2f) of "
                      "%d frames", request.target.tid, len(grasps), grasps[0].tilt_deg,
@@ -272,7 +272,7 @@ class AnySideGraspSource:
             r = reach(g, self.grasp_config.pre_grasp_distance_m)
             if r is not None:
                 reached.append(r)
-                if len(reached) >= self.config.max_candidates:
+                if len(reached) >= self.config.max_proposals:
                     break
         if not reached:
             self.last_refusal = (f"none of the {min(len(grasps), self.config.reach_candidates)} best "

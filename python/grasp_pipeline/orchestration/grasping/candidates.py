@@ -9,7 +9,7 @@ approach × lines across the object.
   normals made orthogonal to the approach (antipodal candidates: the closing axis along the
   surface normal at a sampled point);
 * **lines**: for each (approach, closing axis) pair, lines across the object at the
-  projection of its centroid and every ``line_step_m`` on both sides of it.
+  projection of its centroid and every ``line_spacing_m`` on both sides of it.
 
 Top-down grasps are the tilt-0 special case of the same sampler.
 """

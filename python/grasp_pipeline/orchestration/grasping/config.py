@@ -17,13 +17,13 @@ class SamplerConfig:
     rotations: int = 12
     normal_axes: int = 4
     lines: int = 3
-    line_step_m: float = 0.008
+    line_spacing_m: float = 0.008
     cell_m: float = 0.005
     max_points: int = 1200
     max_cell_m: float = 0.009
     preselect: int = 40
     reach_candidates: int = 10
-    max_candidates: int = 6
+    max_proposals: int = 6
     approach_checks_m: tuple[float, ...] = (0.0, 0.03, 0.06)
     duplicate_distance_m: float = 0.008
     max_raise_m: float = 0.03
@@ -38,7 +38,7 @@ class SamplerConfig:
     weight_overlap: float = 0.5
     weight_tilt: float = 3.0
     weight_clearance: float = 0.5
-    clearance_enough_m: float = 0.01
+    hand_clearance_enough_m: float = 0.01
     unknown_max_fraction: float = 0.5
     friction_cone_deg: float = 35.0
     weight_unknown: float = 1.0
@@ -49,14 +49,14 @@ class SamplerConfig:
         if any(not 0.0 < t <= 90.0 for t in self.tilts_deg):
             raise ConfigError("SamplerConfig.tilts_deg: expected tilts in (0, 90] deg")
         for name in ("azimuths", "rotations", "lines", "max_points", "preselect",
-                     "reach_candidates", "max_candidates"):
+                     "reach_candidates", "max_proposals"):
             v = getattr(self, name)
             if not 1 <= v <= 100000:
                 raise ConfigError(f"SamplerConfig.{name} = {v}: expected an integer in [1, 100000]")
         if not 0 <= self.normal_axes <= 1000:
             raise ConfigError(f"SamplerConfig.normal_axes = {self.normal_axes}: expected 0-1000")
-        for name in ("line_step_m", "cell_m", "max_cell_m", "duplicate_distance_m", "max_raise_m", "centre_scale_m", "width_scale_m",
-                     "clearance_enough_m"):
+        for name in ("line_spacing_m", "cell_m", "max_cell_m", "duplicate_distance_m", "max_raise_m", "centre_scale_m", "width_scale_m",
+                     "hand_clearance_enough_m"):
             v = getattr(self, name)
             if not 0.0 < v <= 0.5:
                 raise ConfigError(f"SamplerConfig.{name} = {v}: expected (0, 0.5] m")

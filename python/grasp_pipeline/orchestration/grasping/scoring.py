@@ -12,7 +12,7 @@ The score is the weighted mean (weights in ``config/grasp_sampler.yaml``) of
   ``width_scale_m`` wider): closing across a box's faces, not its diagonal;
 * **overlap**: the pads' share of their length on the object;
 * **tilt**: 1 for top-down, 0 at the tilt limit (tilted grasps are harder to carry out);
-* **clearance**: of the hand from the neighbours, 1 from ``clearance_enough_m``;
+* **clearance**: of the hand from the neighbours, 1 from ``hand_clearance_enough_m``;
 * **seen**: the share of the fingers' way the cameras have seen.
 """
 
@@ -40,7 +40,7 @@ def score(con: Contacts, frames: Frames, cfg: SamplerConfig, lim: ContactLimits,
         (cfg.weight_tilt, 1.0 - np.clip(frames.tilt_deg[idx] / max(cfg.max_tilt_deg, 1.0), 0.0, 1.0)),
     ]
     if clearance is not None:
-        terms.append((cfg.weight_clearance, np.clip(np.asarray(clearance) / cfg.clearance_enough_m, 0.0, 1.0)))
+        terms.append((cfg.weight_clearance, np.clip(np.asarray(clearance) / cfg.hand_clearance_enough_m, 0.0, 1.0)))
     if unknown is not None:
         terms.append((cfg.weight_unknown, 1.0 - np.clip(np.asarray(unknown), 0.0, 1.0)))
     w = sum(t[0] for t in terms)

@@ -1,0 +1,109 @@
+"""Parameters of the scene volume and of the side view that fills it (``config/volume.yaml``).
+
+``volume_*``: the voxel grid (:mod:`.scene_volume`) — its world box, voxel, the occupied band
+around each measured surface, the log-odds update, which frames are integrated and what is
+forgotten after a grasp attempt. ``side_view_*``: when a target's sides count as unknown
+(:mod:`.side_coverage`), the candidate views around it (:mod:`.view_planner`) and the extra
+look (:mod:`grasp_pipeline.orchestration.side_view`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ..exceptions import ConfigError
+
+#: What is forgotten after a grasp attempt (``volume_forget``).
+FORGET_TARGET, FORGET_ALL, FORGET_NONE = "target", "all", "none"
+
+
+def _require(ok: bool, name: str, value, expected: str) -> None:
+    if not ok:
+        raise ConfigError(f"volume.{name} = {value!r}: expected {expected}")
+
+
+@dataclass(frozen=True)
+class VolumeConfig:
+    """See ``config/volume.yaml``."""
+
+    volume_box_min_m: tuple[float, ...] = (0.25, -0.40, 0.18)
+    volume_box_max_m: tuple[float, ...] = (0.85, 0.40, 0.50)
+    volume_voxel_m: float = 0.005
+    volume_truncation_m: float = 0.01
+    volume_max_range_m: float = 1.2
+    volume_logodds_hit: float = 0.85
+    volume_logodds_miss: float = -0.4
+    volume_logodds_min: float = -2.0
+    volume_logodds_max: float = 3.5
+    volume_integrate_every_frames: int = 5
+    volume_integrate_moved_m: float = 0.005
+    volume_integrate_turned_deg: float = 1.0
+    volume_forget: str = FORGET_TARGET
+    volume_forget_margin_m: float = 0.05
+    side_view: bool = True
+    side_view_unknown_fraction: float = 0.25
+    side_view_shell_m: float = 0.03
+    side_view_table_clearance_m: float = 0.015
+    side_view_elevations_deg: tuple[float, ...] = (35.0, 47.5, 60.0)
+    side_view_azimuth_step_deg: float = 30.0
+    side_view_distances_m: tuple[float, ...] = (0.35, 0.45)
+    side_view_min_range_m: float = 0.15
+    side_view_min_gain_fraction: float = 0.2
+    side_view_max_ik_checks: int = 12
+    side_view_dwell_frames: int = 5
+    side_view_return: bool = True
+
+    def __post_init__(self) -> None:
+        self.validate()
+
+    def validate(self) -> None:
+        """Raise ConfigError naming the first parameter out of range (the voxel grid's own
+        limits are checked again by the C++ core)."""
+        lo, hi = tuple(self.volume_box_min_m), tuple(self.volume_box_max_m)
+        for name, box in (("volume_box_min_m", lo), ("volume_box_max_m", hi)):
+            _require(len(box) == 3 and all(math.isfinite(float(v)) for v in box), name, list(box),
+                     "3 finite numbers (x, y, z) in m")
+        _require(all(b - a >= self.volume_voxel_m for a, b in zip(lo, hi)), "volume_box_max_m",
+                 list(hi), "at least one voxel above volume_box_min_m on every axis")
+        _require(0.001 <= self.volume_voxel_m <= 0.1, "volume_voxel_m", self.volume_voxel_m, "[0.001, 0.1] m")
+        _require(0.5 * self.volume_voxel_m <= self.volume_truncation_m <= 1.0, "volume_truncation_m",
+                 self.volume_truncation_m, "[volume_voxel_m / 2, 1] m")
+        _require(self.volume_max_range_m > 0, "volume_max_range_m", self.volume_max_range_m, "> 0 m")
+        _require(self.volume_logodds_hit > 0, "volume_logodds_hit", self.volume_logodds_hit, "> 0")
+        _require(self.volume_logodds_miss < 0, "volume_logodds_miss", self.volume_logodds_miss, "< 0")
+        _require(self.volume_logodds_max >= self.volume_logodds_hit, "volume_logodds_max",
+                 self.volume_logodds_max, ">= volume_logodds_hit")
+        _require(self.volume_logodds_min <= self.volume_logodds_miss, "volume_logodds_min",
+                 self.volume_logodds_min, "<= volume_logodds_miss")
+        _require(self.volume_integrate_every_frames >= 1, "volume_integrate_every_frames",
+                 self.volume_integrate_every_frames, "an integer >= 1 (1: every frame)")
+        _require(self.volume_integrate_moved_m >= 0, "volume_integrate_moved_m", self.volume_integrate_moved_m, ">= 0 m")
+        _require(self.volume_integrate_turned_deg >= 0, "volume_integrate_turned_deg",
+                 self.volume_integrate_turned_deg, ">= 0 deg")
+        _require(self.volume_forget in (FORGET_TARGET, FORGET_ALL, FORGET_NONE), "volume_forget",
+                 self.volume_forget, f"one of {FORGET_TARGET}, {FORGET_ALL}, {FORGET_NONE}")
+        _require(self.volume_forget_margin_m >= 0, "volume_forget_margin_m", self.volume_forget_margin_m, ">= 0 m")
+        self._validate_side_view()
+
+    def _validate_side_view(self) -> None:
+        _require(0 <= self.side_view_unknown_fraction <= 1, "side_view_unknown_fraction",
+                 self.side_view_unknown_fraction, "[0, 1]")
+        _require(self.side_view_shell_m >= self.volume_voxel_m, "side_view_shell_m", self.side_view_shell_m,
+                 ">= volume_voxel_m")
+        _require(self.side_view_table_clearance_m >= 0, "side_view_table_clearance_m",
+                 self.side_view_table_clearance_m, ">= 0 m")
+        elev = tuple(self.side_view_elevations_deg)
+        _require(len(elev) > 0 and all(0 < e < 90 for e in elev), "side_view_elevations_deg", list(elev),
+                 "a non-empty list of angles in (0, 90) deg above the table")
+        _require(0 < self.side_view_azimuth_step_deg <= 180, "side_view_azimuth_step_deg",
+                 self.side_view_azimuth_step_deg, "(0, 180] deg")
+        dist = tuple(self.side_view_distances_m)
+        _require(len(dist) > 0 and all(d > self.side_view_min_range_m for d in dist), "side_view_distances_m",
+                 list(dist), "a non-empty list of distances above side_view_min_range_m")
+        _require(0 <= self.side_view_min_range_m < self.volume_max_range_m, "side_view_min_range_m",
+                 self.side_view_min_range_m, "[0, volume_max_range_m) m")
+        _require(0 <= self.side_view_min_gain_fraction <= 1, "side_view_min_gain_fraction",
+                 self.side_view_min_gain_fraction, "[0, 1]")
+        _require(self.side_view_max_ik_checks >= 1, "side_view_max_ik_checks", self.side_view_max_ik_checks, ">= 1")
+        _require(self.side_view_dwell_frames >= 1, "side_view_dwell_frames", self.side_view_dwell_frames, ">= 1")
