@@ -170,14 +170,18 @@ class GraspAction:
         return out
 
     def _set_scene(self, grasp) -> tuple[Optional[int], object]:
-        """Perceived scene at the moment of the grasp; the target (the track under the
-        grasp) and its fragments are no obstacles. Returns (target tid, scene)."""
+        """Perceived scene at the moment of the grasp; the target (the grasp's own
+        ``target_tid``, else the track under the grasp) and its fragments are no obstacles.
+        Returns (target tid, scene)."""
         scene = snapshot(self.loop, exclude_tids=self.lingering_tids())
-        target_tid = None
-        if scene.boxes:
+        target_tid = getattr(grasp, "target_tid", None)
+        if target_tid is not None and target_tid not in scene.tids:
+            target_tid = None
+        if scene.boxes and target_tid is None:  # a grasp that does not say: the track under it
             boxes_as_tracks = [t for t in self.loop.tracks() if t.tid in scene.tids]
             target, _ = nearest_track(boxes_as_tracks, np.asarray(grasp.position)[:2])
             target_tid = None if target is None else int(target.tid)
+        if target_tid is not None:
             scene = scene.without_fragments(target_tid, self.config.fragment_margin_m)
         self.motion.set_scene(scene, target_tid)
         k = scene.index_of(target_tid)

@@ -103,6 +103,21 @@ def side_view_if_needed(ctx: PickContext, xy, row: PickResult) -> None:
     row.side_view = look_at_sides(ctx.side_view, track, ctx.settings.scan.scan_timeout_s)
 
 
+def _look_again_at_sides(ctx: PickContext, xy, row: PickResult) -> bool:
+    """No grasp from what was seen: when no side view was taken for this pick, take one now
+    if the target's sides are at all unknown (True: a view was taken — ask again)."""
+    if ctx.side_view is None or (row.side_view is not None and row.side_view.view is not None):
+        return False
+    track = ctx.loop.nearest_track(np.asarray(xy, float))
+    if track is None:
+        return False
+    result = look_at_sides(ctx.side_view, track, ctx.settings.scan.scan_timeout_s, force=True)
+    if result.view is None:
+        return False
+    row.side_view = result
+    return True
+
+
 def _forget_attempted(ctx: PickContext, estimate) -> None:
     """The scene volume forgets the surroundings of the attempted target (``estimate``: its
     box before the attempt; it may have moved)."""
@@ -159,6 +174,8 @@ def _run_action(ctx: PickContext, xy, sel, row: PickResult, decline: bool = Fals
     rt, loop, action = ctx.rt, ctx.loop, ctx.action
     try:
         grasps = _candidates(ctx, xy, sel)
+        if not grasps and _look_again_at_sides(ctx, xy, row):
+            grasps = _candidates(ctx, xy, sel)
         if not grasps:
             row.failed_stage, row.declined = "GRASP", decline
             why = getattr(ctx.source, "last_refusal", "")

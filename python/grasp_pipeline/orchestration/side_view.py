@@ -45,6 +45,8 @@ log = logging.getLogger("grasp_pipeline.side_view")
 #: Camera rolls about its optical axis tried for reachability [deg]; the flange position
 #: nearest the robot's base (the world origin) is tried first.
 ROLLS_DEG = (0.0, 180.0, 90.0, -90.0)
+#: A forced side view (no grasp without it) is taken when a face is at least this unknown.
+FORCED_MIN_UNKNOWN = 0.05
 #: Views revealing within this fraction of each other count as equally good (then nearest the
 #: base first: :meth:`SideView._reach_order`).
 GAIN_STEP = 0.1
@@ -77,8 +79,9 @@ class SideView:
         self.scan_config = scan_config or ScanConfig()
 
     # ---- judging ------------------------------------------------------------------
-    def coverage(self, track) -> Optional[SideCoverage]:
-        """The unknown shell of ``track``'s box (None: no volume or no plane yet)."""
+    def coverage(self, track, interior: bool = False) -> Optional[SideCoverage]:
+        """The unknown shell of ``track``'s box (``interior``: and inside it; None: no volume
+        or no plane yet)."""
         volume, plane = getattr(self.loop, "volume", None), self.loop.plane
         if volume is None or plane is None:
             return None
@@ -86,7 +89,7 @@ class SideView:
         others = [(t.smoothed.center, t.smoothed.R_box, t.smoothed.extents)
                   for t in self.loop.tracks() if t.tid != track.tid]
         return side_coverage(volume, e.center, e.R_box, e.extents, plane, cfg.side_view_shell_m,
-                             cfg.side_view_table_clearance_m, others)
+                             cfg.side_view_table_clearance_m, others, interior)
 
     def choose(self, track, coverage: SideCoverage) -> tuple[Optional[ViewCandidate], Optional[np.ndarray], str]:
         """(view, flange pose, why) of the best reachable view that reveals enough; (None, None,
@@ -174,21 +177,23 @@ class SideView:
             self.motion.sync()
 
 
-def look_at_sides(side_view: SideView, track, timeout_s: float) -> SideViewResult:
+def look_at_sides(side_view: SideView, track, timeout_s: float, force: bool = False) -> SideViewResult:
     """Judge ``track``'s sides and take the side view when they are unknown enough (module
-    doc); returns what happened."""
+    doc; ``force``: the grasp source found no grasp without it — look whenever any of the
+    shell or the space inside the target's box is unknown); returns what happened."""
     c0, sim0 = time.thread_time(), float(side_view.rt.world.time_s)
     out = SideViewResult(tid=int(track.tid))
-    before = side_view.coverage(track)
+    before = side_view.coverage(track, interior=force)
     if before is None:
         out.message = "no scene volume"
         return out
     out.unknown_before, out.faces_before = before.worst, before.summary()
-    if before.worst < side_view.config.side_view_unknown_fraction:
+    if (before.overall if force else before.worst) < (FORCED_MIN_UNKNOWN if force
+                                                      else side_view.config.side_view_unknown_fraction):
         out.message = "sides known"
     else:
         _visit(side_view, track, before, out, timeout_s)
-        after = side_view.coverage(track)
+        after = side_view.coverage(track, interior=force)
         out.unknown_after, out.faces_after = after.worst, after.summary()
     out.cpu_s = time.thread_time() - c0
     out.sim_s = float(side_view.rt.world.time_s) - sim0

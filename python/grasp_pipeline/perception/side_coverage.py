@@ -66,10 +66,12 @@ def inside_any(points: np.ndarray, boxes: Sequence[tuple]) -> np.ndarray:
 
 
 def side_coverage(volume: SceneVolume, center, R, extents, plane, shell_m: float,
-                  table_clearance_m: float, neighbours: Sequence[tuple] = ()) -> SideCoverage:
+                  table_clearance_m: float, neighbours: Sequence[tuple] = (),
+                  interior: bool = False) -> SideCoverage:
     """The shell of the box (``center``, rotation ``R`` whose columns are the box axes,
     full ``extents``; z = up) above ``plane`` (``n``, ``c``) in ``volume``, less the
-    ``neighbours``' boxes (``(center, R, extents)`` each)."""
+    ``neighbours``' boxes (``(center, R, extents)`` each); ``interior``: the box's own
+    volume too, counted with the face it is nearest (under a leaning object, say)."""
     c = np.asarray(center, float)
     Rb = np.asarray(R, float)
     half = 0.5 * np.asarray(extents, float)
@@ -82,6 +84,8 @@ def side_coverage(volume: SceneVolume, center, R, extents, plane, shell_m: float
     n, off = np.asarray(plane.n, float), float(plane.c)
     above = centres @ n + off >= table_clearance_m
     in_shell, face = shell_mask(local, half[:2], shell_m)
+    if interior:
+        in_shell |= np.all(np.abs(local[:, :2]) <= half[:2], axis=1)
     keep = in_shell & above & (local[:, 2] <= half[2])
     if len(neighbours):
         keep[keep] = ~inside_any(centres[keep], neighbours)

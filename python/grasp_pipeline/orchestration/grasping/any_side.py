@@ -156,7 +156,8 @@ class AnySideGraspSource:
                              min_material_points=f.min_material_points, contact_depth_m=f.contact_depth_m,
                              min_contact_fraction=f.min_contact_fraction, blocked_points=f.blocked_points,
                              tolerance_m=f.column_tolerance_m, min_pad_overlap_m=f.min_pad_overlap_m,
-                             friction_cone_deg=self.config.friction_cone_deg)
+                             friction_cone_deg=self.config.friction_cone_deg,
+                             min_facing_fraction=self.config.min_facing_fraction)
 
     def _obstacles(self, request) -> ObstacleSet:
         cloud, track, scene = request.cloud, request.target, request.scene
@@ -218,7 +219,7 @@ class AnySideGraspSource:
                                    lim.tolerance_m)
         free = (slack >= 0.0) & ~palm  # (K, 2) per hand orientation
         unknown = self._unknown(request, sub, origins, con.y_mid, con.z_tcp, opening)
-        usable = free.any(axis=1) & (unknown <= cfg.unknown_max_fraction)
+        usable = free.any(axis=1) & (unknown < cfg.unknown_max_fraction)
         if not np.any(usable):
             self.last_refusal = self._scene_summary(free, palm, unknown, len(idx))
             return []
@@ -236,21 +237,20 @@ class AnySideGraspSource:
         return grasps
 
     def _unknown(self, request, sub, origins, y_mid, z_tcp, opening) -> np.ndarray:
-        """(K,) share of the fingers' pads' volume the cameras never saw (0 when unknown)."""
+        """(K,) the larger share, of the two finger pads' places at the opening, that no camera
+        has seen free (0 when the request cannot tell): a finger that would come down into
+        unseen space may meet what nobody saw (under a leaning box, say)."""
         probe = getattr(request, "unknown", None)
-        if probe is None:
+        if probe is None or len(origins) == 0:
             return np.zeros(len(origins))
         offs = np.array([[x, 0.0, z] for x in (-0.006, 0.006) for z in (-0.008, 0.0, 0.008)])
-        out = np.zeros(len(origins))
-        for k in range(len(origins)):
-            pts = []
-            for side in (1.0, -1.0):
-                y = side * (0.5 * opening[k] + 0.005)
-                local = offs + np.array([0.0, y, 0.0])
-                pts.append(origins[k] + local[:, :1] * sub.b[k] + local[:, 1:2] * sub.c[k]
-                           + local[:, 2:3] * sub.a[k])
-            out[k] = float(np.mean(probe(np.vstack(pts))))
-        return out
+        sides = []
+        for side in (1.0, -1.0):
+            y = side * (0.5 * opening[:, None] + 0.005)  # (K, 1)
+            pts = (origins[:, None, :] + offs[None, :, :1] * sub.b[:, None, :]
+                   + y[:, :, None] * sub.c[:, None, :] + offs[None, :, 2:3] * sub.a[:, None, :])
+            sides.append(np.asarray(probe(pts.reshape(-1, 3)), float).reshape(len(origins), -1).mean(axis=1))
+        return np.maximum(*sides)
 
     def _grasp(self, request, sub, origins, con, k, s, free_k) -> Grasp:
         a, c = sub.a[k], sub.c[k]

@@ -31,7 +31,7 @@ class SamplerConfig:
     centre_scale_m: float = 0.03
     width_scale_m: float = 0.02
     weight_coverage: float = 1.0
-    weight_antipodal: float = 1.0
+    weight_antipodal: float = 2.0
     weight_centre: float = 1.0
     weight_depth: float = 0.5
     weight_width: float = 1.0
@@ -41,6 +41,7 @@ class SamplerConfig:
     hand_clearance_enough_m: float = 0.01
     unknown_max_fraction: float = 0.5
     friction_cone_deg: float = 35.0
+    min_facing_fraction: float = 0.25
     weight_unknown: float = 1.0
 
     def validate(self) -> None:
@@ -62,6 +63,8 @@ class SamplerConfig:
                 raise ConfigError(f"SamplerConfig.{name} = {v}: expected (0, 0.5] m")
         if not self.approach_checks_m or any(not 0.0 <= b <= 0.3 for b in self.approach_checks_m):
             raise ConfigError("SamplerConfig.approach_checks_m: expected distances in [0, 0.3] m")
+        if not 0.0 <= self.min_facing_fraction <= 1.0:
+            raise ConfigError("SamplerConfig.min_facing_fraction: expected [0, 1]")
         if not 0.0 < self.friction_cone_deg < 90.0:
             raise ConfigError("SamplerConfig.friction_cone_deg: expected (0, 90) deg")
         if not 0.0 < self.duplicate_angle_deg <= 90.0:

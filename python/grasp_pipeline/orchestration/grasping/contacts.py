@@ -13,10 +13,10 @@ object's points are read in the frame's coordinates X = p·b, Y = p·c, Z = p·a
   width to close on (≤ ``max_width_m``), the pads centred on it;
 * **contacts**: at each end of that span the material within ``contact_depth_m`` must
   cover at least ``min_contact_fraction`` of the pad's width (an object's corner under a
-  pad's edge is no grip); at each end some surface of the contact patch must face the pad
-  within ``friction_cone_deg`` (the best |n·c| of the patch's normals — seen, or inferred
-  from the solid model; a slanted face squeezed across slips out), and how well the patch
-  faces it on average is the antipodality;
+  pad's edge is no grip); at each end at least ``min_facing_fraction`` of the contact patch
+  must face the pad within ``friction_cone_deg`` (its normals — seen, or inferred from the
+  solid model; a slanted face squeezed across slips out, a rounded edge above a side wall
+  does not), and how well the patch faces it on average is the antipodality;
 * **the fingers' way in**: the fingers, opened to width + ``open_margin_m``, sweep along
   ``a`` down to the pads' far edge; at most ``blocked_points`` of the object's points may
   lie in their way (a mug's handle, a wider part above the grasp).
@@ -57,6 +57,7 @@ class ContactLimits:
     tolerance_m: float = 0.002
     min_pad_overlap_m: float = 0.012
     friction_cone_deg: float = 35.0
+    min_facing_fraction: float = 0.25
 
 
 @dataclass(frozen=True)
@@ -132,13 +133,14 @@ def _coverage(X, Y, mat, y_edge, sign, lim: ContactLimits, hand: HandModel):
     return np.clip(np.nan_to_num(span, neginf=0.0, posinf=0.0) / (2.0 * hand.pad_half_width_m), 0.0, 1.0), near
 
 
-def _antipodal(normals_c: np.ndarray, near: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(mean, best) |n·c| of the points in ``near`` per frame; NaN where there are none."""
+def _antipodal(normals_c: np.ndarray, near: np.ndarray, cos_cone: float) -> tuple[np.ndarray, np.ndarray]:
+    """(mean |n·c|, share of the points facing the pad within the cone) of the points in
+    ``near`` per frame; NaN where there are none."""
     cnt = near.sum(axis=0)
     a = np.abs(normals_c)
     mean = np.where(cnt > 0, np.where(near, a, 0.0).sum(axis=0) / np.maximum(cnt, 1), np.nan)
-    best = np.where(cnt > 0, np.max(a, axis=0, where=near, initial=0.0), np.nan)
-    return mean, best
+    inside = np.where(cnt > 0, (near & (a >= cos_cone)).sum(axis=0) / np.maximum(cnt, 1), np.nan)
+    return mean, inside
 
 
 def _fingers_blocked(X, Y, Z, x0, y_mid, z_tcp, opening, lim: ContactLimits, hand: HandModel):
@@ -194,10 +196,11 @@ def evaluate(frames: Frames, target: TargetModel, hand: HandModel, lim: ContactL
     cov_hi, near_hi = _coverage(X, Y, mat, y_hi, 1.0, lim, hand)
     cov_lo, near_lo = _coverage(X, Y, mat, y_lo, -1.0, lim, hand)
     nc = (target.normals @ frames.c.T).astype(np.float32)
-    (m_hi, b_hi), (m_lo, b_lo) = _antipodal(nc, near_hi), _antipodal(nc, near_lo)
-    ends, best = np.stack([m_hi, m_lo]), np.stack([b_hi, b_lo])
+    cos_cone = float(np.cos(np.radians(lim.friction_cone_deg)))
+    (m_hi, f_hi), (m_lo, f_lo) = _antipodal(nc, near_hi, cos_cone), _antipodal(nc, near_lo, cos_cone)
+    ends, facing = np.stack([m_hi, m_lo]), np.stack([f_hi, f_lo])
     known = np.isfinite(ends)
-    outside_cone = np.any(known & (np.nan_to_num(best) < np.cos(np.radians(lim.friction_cone_deg))), axis=0)
+    outside_cone = np.any(known & (np.nan_to_num(facing) < lim.min_facing_fraction), axis=0)
     anti = np.where(known.any(axis=0), np.where(known, ends, 0.0).sum(axis=0) / np.maximum(known.sum(axis=0), 1), 0.5)
     blocked = _fingers_blocked(X, Y, Z, x0, y_mid, z_tcp, opening, lim, hand)
     pad_lo, pad_hi = z_tcp - hand.pad_half_length_m, z_tcp + hand.pad_half_length_m

@@ -11,7 +11,9 @@ The score is the weighted mean (weights in ``config/grasp_sampler.yaml``) of
 * **width**: how close the width is to the narrowest of the object's candidates (1 there, 0
   ``width_scale_m`` wider): closing across a box's faces, not its diagonal;
 * **overlap**: the pads' share of their length on the object;
-* **tilt**: 1 for top-down, 0 at the tilt limit (tilted grasps are harder to carry out);
+* **tilt**: 1 for top-down; a tilted approach 0.5 falling to 0.3 at the tilt limit (a tilted
+  grasp is harder to carry out than a top-down one, but among tilted grasps the tilt that
+  fits the object best should win);
 * **clearance**: of the hand from the neighbours, 1 from ``hand_clearance_enough_m``;
 * **seen**: the share of the fingers' way the cameras have seen.
 """
@@ -37,7 +39,7 @@ def score(con: Contacts, frames: Frames, cfg: SamplerConfig, lim: ContactLimits,
         (cfg.weight_depth, 1.0 - np.clip(con.depth_off_m[idx] / (3.0 * cfg.centre_scale_m), 0.0, 1.0)),
         (cfg.weight_width, _narrow(con, idx, cfg.width_scale_m)),
         (cfg.weight_overlap, con.overlap[idx]),
-        (cfg.weight_tilt, 1.0 - np.clip(frames.tilt_deg[idx] / max(cfg.max_tilt_deg, 1.0), 0.0, 1.0)),
+        (cfg.weight_tilt, _upright(frames.tilt_deg[idx], cfg.max_tilt_deg)),
     ]
     if clearance is not None:
         terms.append((cfg.weight_clearance, np.clip(np.asarray(clearance) / cfg.hand_clearance_enough_m, 0.0, 1.0)))
@@ -47,6 +49,13 @@ def score(con: Contacts, frames: Frames, cfg: SamplerConfig, lim: ContactLimits,
     if w <= 0:
         return np.zeros(len(idx))
     return sum(t[0] * t[1] for t in terms) / w
+
+
+def _upright(tilt_deg: np.ndarray, max_tilt_deg: float) -> np.ndarray:
+    from .grasp import TOP_DOWN_TOLERANCE_DEG
+
+    tilted = 0.5 - 0.2 * np.clip(tilt_deg / max(max_tilt_deg, 1.0), 0.0, 1.0)
+    return np.where(tilt_deg <= TOP_DOWN_TOLERANCE_DEG, 1.0, tilted)
 
 
 def _narrow(con: Contacts, idx: np.ndarray, scale_m: float) -> np.ndarray:
