@@ -98,19 +98,23 @@ class PandaIK:
         return self.fk_flange(q) @ self.flange_T_tcp
 
     # ------------------------------------------------------------------ IK
-    def solve_tcp(self, T_world_tcp: np.ndarray, q_current: np.ndarray) -> IKResult:
+    def solve_tcp(self, T_world_tcp: np.ndarray, q_current: np.ndarray,
+                  q7_samples: int | None = None) -> IKResult:
         """IK for a TCP pose (z = approach, y = closing); see :meth:`solve_flange`."""
         T = validate_pose(T_world_tcp, "TCP target pose")
-        return self.solve_flange(T @ self.tcp_T_flange, q_current)
+        return self.solve_flange(T @ self.tcp_T_flange, q_current, q7_samples)
 
-    def solve_flange(self, T_world_flange: np.ndarray, q_current: np.ndarray) -> IKResult:
-        """All solutions within the joint limits, the one nearest ``q_current`` chosen.
+    def solve_flange(self, T_world_flange: np.ndarray, q_current: np.ndarray,
+                     q7_samples: int | None = None) -> IKResult:
+        """All solutions within the joint limits, the one nearest ``q_current`` chosen;
+        ``q7_samples``: joint-7 samples of the analytic solver (default ``ik_q7_samples``; fewer
+        find fewer of the solutions, faster — enough to tell whether a pose is reachable).
 
         Raises InvalidPoseError (NaN / malformed pose or joints) or UnreachablePoseError.
         """
         T = validate_pose(T_world_flange, "flange target pose")
         q_cur = validate_joints(q_current, "current joints")
-        cands = self._analytic_candidates(T, q_cur)
+        cands = self._analytic_candidates(T, q_cur, q7_samples)
         sols = self._refine_and_verify(T, cands) if len(cands) else np.zeros((0, 7))
         if len(sols) == 0:
             seeds = np.vstack([np.clip(q_cur, self.q_min, self.q_max), rm.READY_Q, rm.NEUTRAL_Q])
@@ -132,11 +136,12 @@ class PandaIK:
                         orientation_residual_rad=rot_err)
 
     # ------------------------------------------------------------------ internals
-    def _analytic_candidates(self, T: np.ndarray, q_cur: np.ndarray) -> np.ndarray:
+    def _analytic_candidates(self, T: np.ndarray, q_cur: np.ndarray, q7_samples: int | None = None) -> np.ndarray:
         import frankik
 
+        n = self.config.ik_q7_samples if q7_samples is None else int(q7_samples)
         q7s = np.concatenate([[np.clip(q_cur[6], self.q_min[6], self.q_max[6])],
-                              np.linspace(self.q_min[6], self.q_max[6], self.config.ik_q7_samples)])
+                              np.linspace(self.q_min[6], self.q_max[6], n)])
         out = []
         Tc = np.ascontiguousarray(T)
         for q7 in q7s:

@@ -159,8 +159,13 @@ class MotionPlanner:
         return pts[keep]
 
     # ------------------------------------------------------------------ planning
-    def solve_ik(self, T_world: np.ndarray, q_current: np.ndarray, frame: str = "tcp") -> IKResult:
-        return self.ik.solve_tcp(T_world, q_current) if frame == "tcp" else self.ik.solve_flange(T_world, q_current)
+    def solve_ik(self, T_world: np.ndarray, q_current: np.ndarray, frame: str = "tcp",
+                 q7_samples: int | None = None) -> IKResult:
+        """IK of a TCP or flange pose (:class:`~.ik.PandaIK`; ``q7_samples``: fewer samples of
+        joint 7 for a quick reachability answer)."""
+        if frame == "tcp":
+            return self.ik.solve_tcp(T_world, q_current, q7_samples)
+        return self.ik.solve_flange(T_world, q_current, q7_samples)
 
     def plan_path_to_joints(self, q_start: np.ndarray, q_goal: np.ndarray) -> JointPath:
         return self.joint_planner.plan(q_start, q_goal)

@@ -63,10 +63,13 @@ class PlanningWorld:
     def set_perceived(self, scene: PerceivedScene) -> None:
         """The environment and the ``object/<tid>`` entries from one perceived scene (the
         objects the caller added under other names stay)."""
-        self.environment = np.asarray(scene.environment_points, dtype=float).reshape(-1, 3)
-        self.capture_q = scene.capture_q
-        self.plane = scene.plane
-        self._env_dirty = True
+        env = np.asarray(scene.environment_points, dtype=float).reshape(-1, 3)
+        q = None if scene.capture_q is None else np.asarray(scene.capture_q, float)
+        same = (env.shape == self.environment.shape and np.array_equal(env, self.environment)
+                and (q is None) == (self.capture_q is None)
+                and (q is None or np.array_equal(q, self.capture_q)))
+        self.environment, self.capture_q, self.plane = env, q, scene.plane
+        self._env_dirty = self._env_dirty or not same  # the same frame: the map stands
         kept = {n: o for n, o in self.objects.items() if not n.startswith(PERCEIVED_PREFIX)}
         tops = scene.object_tops(self.points_model)
         perceived = {f"{PERCEIVED_PREFIX}{tid}": WorldObject(f"{PERCEIVED_PREFIX}{tid}", box, top)

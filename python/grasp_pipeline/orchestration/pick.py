@@ -154,7 +154,9 @@ def grasp_request(ctx: PickContext, xy, target, check_collisions: bool = False) 
     if check_collisions and target is not None:
         motion.set_scene(scene.without_fragments(int(target.tid), s.grasp.fragment_margin_m),
                          int(target.tid))
-    reach = ArmReach(motion.planner, motion.q_cmd, ctx.rt.world.tcp_pose(), check_collisions)
+    # the arm's reach is checked only for the pick itself (ranking the round's targets
+    # needs the grasps' scores, not their reach)
+    reach = ArmReach(motion.planner, motion.q_cmd, ctx.rt.world.tcp_pose(), True) if check_collisions else None
     volume = getattr(loop, "volume", None)
     return GraspRequest(anchor_xy=(float(xy[0]), float(xy[1])), target=target,
                         published=loop.selector.best_grasp, scene=scene,

@@ -29,6 +29,11 @@ def tcp_orientations(grasp: Grasp, reference_R: Optional[np.ndarray]) -> list:
     return sorted(both, key=lambda R: rotation_angle(R @ np.asarray(reference_R)[:3, :3].T))
 
 
+#: Joint-7 samples of the reach check's IK (the planner itself uses ``ik_q7_samples``): enough
+#: to find a solution where one exists, not to list them all.
+Q7_SAMPLES = 8
+
+
 class ArmReach:
     """A reach check bound to a planner (``MotionPlanner``) and the joints to start from.
 
@@ -37,15 +42,16 @@ class ArmReach:
     target first)."""
 
     def __init__(self, planner, q_ref: np.ndarray, reference_tcp: Optional[np.ndarray] = None,
-                 check_collisions: bool = False) -> None:
+                 check_collisions: bool = False, q7_samples: int = Q7_SAMPLES) -> None:
         self.planner = planner
         self.q_ref = np.asarray(q_ref, dtype=float)
         self.reference_tcp = reference_tcp
         self.check_collisions = check_collisions
+        self.q7_samples = int(q7_samples)
 
     def _solutions(self, T: np.ndarray, q_seed: np.ndarray, allow_target: bool) -> np.ndarray:
         try:
-            sols = self.planner.solve_ik(T, q_seed, "tcp").solutions
+            sols = self.planner.solve_ik(T, q_seed, "tcp", self.q7_samples).solutions
         except UnreachablePoseError:
             return np.zeros((0, 7))
         if not self.check_collisions or len(sols) == 0:
