@@ -13,6 +13,8 @@ from __future__ import annotations
 import logging
 import time
 from pathlib import Path
+
+import numpy as np
 from typing import Callable, Optional, Sequence
 
 from ..evaluation import scoring
@@ -135,6 +137,7 @@ def _stages(system: System, settings: Settings, report: RunReport, snapshots, se
         for xy in _targets(system, settings, report, select, rough_tids):
             report.picks.append(pick_object(ctx, xy))
     report.timings["picks_s"] = time.perf_counter() - t0
+    _proposal_timings(report, source)
     _real_time(report, "picks", float(system.world.time_s) - sim0, report.timings["picks_s"])
     _volume_cost(system, report)
 
@@ -148,6 +151,16 @@ def _volume_cost(system: System, report: RunReport) -> None:
     report.timings["volume_integrate_cpu_s"] = st.integrate_cpu_s
     log.info("scene volume: %d of %d frames integrated, %.2f s CPU (%.1f ms a frame)", st.frames_integrated,
              st.frames_offered, st.integrate_cpu_s, 1e3 * st.integrate_cpu_s / max(1, st.frames_integrated))
+
+
+def _proposal_timings(report: RunReport, source) -> None:
+    """How many grasp proposals the source made and their CPU time (a source that measures it)."""
+    cpu = list(getattr(source, "cpu_ms", []) or [])
+    if cpu:
+        report.timings["grasp_proposals"] = float(len(cpu))
+        report.timings["grasp_proposal_cpu_ms_median"] = float(np.median(cpu))
+        report.timings["grasp_proposal_cpu_ms_p90"] = float(np.percentile(cpu, 90))
+        report.timings["grasp_proposal_cpu_s"] = float(np.sum(cpu)) / 1e3
 
 
 def _real_time(report: RunReport, name: str, sim_s: float, wall_s: float) -> None:
