@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <mutex>
+#include <string>
 
 namespace grasp_core {
 
@@ -77,13 +80,23 @@ struct Box {
 };
 
 /// Levels of halving below one grid cell tried before a cell is left unknown.
-constexpr int kRefineLevels = 4;
+constexpr int kRefineLevels = 2;
 
 class TableBuilder {
  public:
   TableBuilder(const PairTableInput& in, std::vector<Hinge> hinges, PairTable& t)
-      : in_(in), hinges_(std::move(hinges)), t_(t),
-        R_(static_cast<std::size_t>(in.chain->num_bodies())), p_(R_.size()) {}
+      : in_(in), hinges_(std::move(hinges)), t_(t) {
+    const std::vector<int> ua = ancestors(*in.chain, in.body_a), ub = ancestors(*in.chain, in.body_b);
+    for (int side = 0; side < 2; ++side) {  // the bodies below the common ancestor, downwards
+      const std::vector<int>& up = side == 0 ? ua : ub;
+      const std::vector<int>& other = side == 0 ? ub : ua;
+      std::vector<int>& path = side == 0 ? path_a_ : path_b_;
+      for (int b : up) {
+        if (std::find(other.begin(), other.end(), b) != other.end()) break;
+        path.insert(path.begin(), b);
+      }
+    }
+  }
 
   void run() {
     t_.dims = static_cast<int>(hinges_.size());
@@ -134,28 +147,26 @@ class TableBuilder {
     return axis;
   }
 
-  /// The verdict of one cell by halving it (kRefineLevels deep): clear when every part is
-  /// clear, blocked when every part is blocked, else unknown.
+  /// A cell that is neither clear nor blocked as a whole may still be clear when halved
+  /// (its bounds are loose): clear when every part down to kRefineLevels halvings is proven
+  /// clear; unknown at the first part that is not (a cell across the collision boundary
+  /// gives up after a few evaluations).
   PairTable::Cell refine(const Box& cell) {
     std::vector<std::pair<Box, int>> open = {{cell, 0}};
-    bool any_clear = false, any_blocked = false;
     while (!open.empty()) {
       auto [box, level] = std::move(open.back());
       open.pop_back();
       const PairTable::Cell v = level == 0 ? PairTable::unknown : evaluate(box);
-      if (v == PairTable::clear) any_clear = true;
-      if (v == PairTable::blocked) any_blocked = true;
-      if (any_clear && any_blocked) return PairTable::unknown;
-      if (v != PairTable::unknown) continue;
+      if (v == PairTable::clear) continue;
       const int axis = split_axis(box, 0.0);
-      if (level == kRefineLevels * t_.dims || axis < 0) return PairTable::unknown;
+      if (v == PairTable::blocked || level == kRefineLevels * t_.dims || axis < 0) return PairTable::unknown;
       Box a = box, b = std::move(box);
       const std::size_t u = static_cast<std::size_t>(axis);
       a.hi[u] = b.lo[u] = 0.5 * (a.lo[u] + a.hi[u]);
       open.push_back({std::move(a), level + 1});
       open.push_back({std::move(b), level + 1});
     }
-    return any_blocked ? PairTable::blocked : PairTable::clear;
+    return PairTable::clear;
   }
 
   double max_lever(const Box& box, int d) const {
@@ -168,6 +179,19 @@ class TableBuilder {
     return lever;
   }
 
+  /// Pose of the last body of `path` in the frame of the links' common ancestor (the same
+  /// recursion as RobotChain::poses; every hinge on the path turns about its body's origin).
+  void pose_below_common(const double* q, const std::vector<int>& path, Mat3& R, Vec3& p) const {
+    R.setIdentity();
+    p.setZero();
+    for (int b : path) {
+      const ChainBody& c = in_.chain->body(b);
+      p = p + R * c.p;
+      R = R * c.R;
+      if (c.joint >= 0) R = R * Eigen::AngleAxisd(q[c.joint] - c.q0_rad, c.axis).toRotationMatrix();
+    }
+  }
+
   /// Clear, blocked or unknown over the box; drops the pairs proven clear from box.active.
   PairTable::Cell evaluate(Box& box) {
     double q[kArmJoints] = {0, 0, 0, 0, 0, 0, 0};
@@ -178,13 +202,16 @@ class TableBuilder {
       q[t_.joint[u]] = 0.5 * (lo + hi);
       half[d] = 0.5 * (hi - lo) + kCellOverlap_rad;
     }
-    in_.chain->poses(q, R_.data(), p_.data());
-    const auto ba = static_cast<std::size_t>(in_.body_a), bb = static_cast<std::size_t>(in_.body_b);
-    std::vector<int> keep;
+    Mat3 Ra, Rb;
+    Vec3 pa, pb;
+    pose_below_common(q, path_a_, Ra, pa);
+    pose_below_common(q, path_b_, Rb, pb);
+    std::vector<int>& keep = keep_;
+    keep.clear();
     for (int k : box.active) {
       const auto [i, j] = in_.pairs[static_cast<std::size_t>(k)];
-      const Vec3 ci = p_[ba] + R_[ba] * in_.centre_a[static_cast<std::size_t>(i)];
-      const Vec3 cj = p_[bb] + R_[bb] * in_.centre_b[static_cast<std::size_t>(j)];
+      const Vec3 ci = pa + Ra * in_.centre_a[static_cast<std::size_t>(i)];
+      const Vec3 cj = pb + Rb * in_.centre_b[static_cast<std::size_t>(j)];
       const double d = (ci - cj).norm() - in_.radius_a[static_cast<std::size_t>(i)] -
                        in_.radius_b[static_cast<std::size_t>(j)] - in_.margin_m;
       double spread = 0.0;
@@ -195,7 +222,7 @@ class TableBuilder {
       if (d + spread < -kPairTableAllowance_m) return PairTable::blocked;
       if (d - spread < kPairTableAllowance_m) keep.push_back(k);
     }
-    box.active = std::move(keep);
+    box.active.swap(keep);
     return box.active.empty() ? PairTable::clear : PairTable::unknown;
   }
 
@@ -210,9 +237,43 @@ class TableBuilder {
   std::vector<Hinge> hinges_;
   PairTable& t_;
   double width_[2] = {0, 0};
-  std::vector<Mat3> R_;
-  std::vector<Vec3> p_;
+  std::vector<int> path_a_, path_b_;  ///< bodies from below the common ancestor to each link
+  std::vector<int> keep_;             ///< scratch of evaluate()
 };
+
+/// Tables kept at most (each a few kB).
+constexpr std::size_t kCachedTables = 256;
+
+/// Everything a table depends on, as bytes: every body from the world to either link (fixed
+/// transform, hinge), the spheres and pairs, the limits, the margin and the resolution.
+std::string cache_key(const PairTableInput& in) {
+  std::vector<double> v;
+  auto add = [&v](const auto& m) { v.insert(v.end(), m.data(), m.data() + m.size()); };
+  std::vector<int> bodies = ancestors(*in.chain, in.body_a);
+  const std::vector<int> ub = ancestors(*in.chain, in.body_b);
+  bodies.insert(bodies.end(), ub.begin(), ub.end());
+  for (int b : bodies) {
+    const ChainBody& c = in.chain->body(b);
+    v.insert(v.end(), {static_cast<double>(b), static_cast<double>(c.parent), static_cast<double>(c.joint), c.q0_rad});
+    add(c.R);
+    add(c.p);
+    add(c.axis);
+    add(c.anchor);
+  }
+  v.push_back(-1.0);
+  for (const Vec3& c : in.centre_a) add(c);
+  v.insert(v.end(), in.radius_a.begin(), in.radius_a.end());
+  v.push_back(-1.0);
+  for (const Vec3& c : in.centre_b) add(c);
+  v.insert(v.end(), in.radius_b.begin(), in.radius_b.end());
+  v.push_back(-1.0);
+  for (const auto& [i, j] : in.pairs) v.insert(v.end(), {static_cast<double>(i), static_cast<double>(j)});
+  v.push_back(-1.0);
+  v.insert(v.end(), in.q_min_rad.begin(), in.q_min_rad.end());
+  v.insert(v.end(), in.q_max_rad.begin(), in.q_max_rad.end());
+  v.insert(v.end(), {in.margin_m, static_cast<double>(in.cells_per_joint)});
+  return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(double));
+}
 
 }  // namespace
 
@@ -220,8 +281,25 @@ bool build_pair_table(const PairTableInput& in, PairTable& out) {
   if (in.chain == nullptr || in.pairs.empty() || in.cells_per_joint < 1) return false;
   std::vector<Hinge> hinges;
   if (!path_hinges(in, hinges) || hinges.size() > 2) return false;
+  // A robot model is built again for every finger opening; the tables of pairs away from
+  // the fingers are the same each time, so built tables are kept by everything they
+  // depend on (bounded; a race builds a table twice, with the same result).
+  static std::mutex mutex;
+  static std::map<std::string, PairTable> cache;
+  const std::string key = cache_key(in);
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    const auto it = cache.find(key);
+    if (it != cache.end()) {
+      out = it->second;
+      return true;
+    }
+  }
   out = PairTable{};
   TableBuilder(in, std::move(hinges), out).run();
+  const std::lock_guard<std::mutex> lock(mutex);
+  if (cache.size() >= kCachedTables) cache.clear();
+  cache.emplace(key, out);
   return true;
 }
 

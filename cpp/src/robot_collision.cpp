@@ -5,7 +5,6 @@
 #include <cmath>
 #include <map>
 #include <memory>
-#include <set>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -13,6 +12,9 @@
 namespace grasp_core {
 
 namespace {
+
+/// Sphere pairs from which a link pair gets a fine joint-space table (64 cells per joint).
+constexpr std::size_t kFinePairTable = 64;
 
 void fail(const std::string& what) { throw std::invalid_argument("robot collision model: " + what); }
 
@@ -117,11 +119,12 @@ RobotCollisionModel::RobotCollisionModel(RobotCollisionSpec spec) : spec_(std::m
   }
   // bounding-sphere trees; usable when every link pair is complete and has no duplicates
   complete_ = true;
+  std::vector<std::pair<int, int>> seen;
   for (const LinkPair& lp : link_pairs_) {
-    std::set<std::pair<int, int>> seen;
-    for (int g = lp.begin; g < lp.end; ++g)
-      for (int k = geom_pairs_[static_cast<std::size_t>(g)].begin; k < geom_pairs_[static_cast<std::size_t>(g)].end; ++k)
-        seen.insert(pairs_[static_cast<std::size_t>(k)]);
+    seen.assign(pairs_.begin() + geom_pairs_[static_cast<std::size_t>(lp.begin)].begin,
+                pairs_.begin() + geom_pairs_[static_cast<std::size_t>(lp.end - 1)].end);
+    std::sort(seen.begin(), seen.end());
+    seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
     const std::size_t full = links_[static_cast<std::size_t>(lp.la)].spheres.size() *
                              links_[static_cast<std::size_t>(lp.lb)].spheres.size();
     const std::size_t count = static_cast<std::size_t>(geom_pairs_[static_cast<std::size_t>(lp.end - 1)].end -
@@ -139,28 +142,39 @@ RobotCollisionModel::RobotCollisionModel(RobotCollisionSpec spec) : spec_(std::m
 }
 
 void RobotCollisionModel::build_pair_tables() {
+  const std::size_t ns = spec_.sphere_radius.size();
+  std::vector<int> slot_a(ns, -1), slot_b(ns, -1);  // sphere -> index in the table input
   for (LinkPair& lp : link_pairs_) {
     PairTableInput in;
     in.chain = &chain_;
     in.body_a = links_[static_cast<std::size_t>(lp.la)].body;
     in.body_b = links_[static_cast<std::size_t>(lp.lb)].body;
     if (in.body_a == in.body_b) continue;
-    std::map<int, int> slot_a, slot_b;
-    auto slot = [&](std::map<int, int>& m, std::vector<Vec3>& c, std::vector<double>& r, int i) {
-      auto it = m.find(i);
-      if (it != m.end()) return it->second;
-      c.push_back(spec_.sphere_center[static_cast<std::size_t>(i)]);
-      r.push_back(spec_.sphere_radius[static_cast<std::size_t>(i)]);
-      return m[i] = static_cast<int>(c.size()) - 1;
-    };
-    for (int g = lp.begin; g < lp.end; ++g)
-      for (int k = geom_pairs_[static_cast<std::size_t>(g)].begin; k < geom_pairs_[static_cast<std::size_t>(g)].end; ++k) {
-        const auto& pr = pairs_[static_cast<std::size_t>(k)];
-        in.pairs.emplace_back(slot(slot_a, in.centre_a, in.radius_a, pr.first), slot(slot_b, in.centre_b, in.radius_b, pr.second));
+    auto slot = [&](std::vector<int>& slots, std::vector<Vec3>& c, std::vector<double>& r, int i) {
+      int& k = slots[static_cast<std::size_t>(i)];
+      if (k < 0) {
+        k = static_cast<int>(c.size());
+        c.push_back(spec_.sphere_center[static_cast<std::size_t>(i)]);
+        r.push_back(spec_.sphere_radius[static_cast<std::size_t>(i)]);
       }
+      return k;
+    };
+    const int first = geom_pairs_[static_cast<std::size_t>(lp.begin)].begin;
+    const int last = geom_pairs_[static_cast<std::size_t>(lp.end - 1)].end;
+    for (int k = first; k < last; ++k) {
+      const auto& pr = pairs_[static_cast<std::size_t>(k)];
+      in.pairs.emplace_back(slot(slot_a, in.centre_a, in.radius_a, pr.first), slot(slot_b, in.centre_b, in.radius_b, pr.second));
+    }
+    for (int k = first; k < last; ++k) {
+      slot_a[static_cast<std::size_t>(pairs_[static_cast<std::size_t>(k)].first)] = -1;
+      slot_b[static_cast<std::size_t>(pairs_[static_cast<std::size_t>(k)].second)] = -1;
+    }
     in.q_min_rad = spec_.q_min_rad;
     in.q_max_rad = spec_.q_max_rad;
     in.margin_m = spec_.self_margin_m;
+    // few sphere pairs: a cheap test per state, so a coarse table (the fingers' tables are
+    // built again for every finger opening)
+    in.cells_per_joint = in.pairs.size() < kFinePairTable ? 16 : 64;
     PairTable table;
     if (!build_pair_table(in, table)) continue;
     lp.always_clear = table.all_clear;
@@ -170,9 +184,14 @@ void RobotCollisionModel::build_pair_tables() {
   }
   // the order of the per-state tests: pairs with a table first (a lookup settles most states)
   for (int pass = 0; pass < 2; ++pass)
-    for (std::size_t k = 0; k < link_pairs_.size(); ++k)
-      if (!link_pairs_[k].always_clear && (link_pairs_[k].table >= 0) == (pass == 0))
-        check_order_.push_back(static_cast<int>(k));
+    for (std::size_t k = 0; k < link_pairs_.size(); ++k) {
+      const LinkPair& lp = link_pairs_[k];
+      if (lp.always_clear || (lp.table >= 0) != (pass == 0)) continue;
+      const int ra = link_roots_[static_cast<std::size_t>(lp.la)], rb = link_roots_[static_cast<std::size_t>(lp.lb)];
+      check_order_.push_back(PairCheck{static_cast<int>(k), ra, rb,
+                                       nodes_[static_cast<std::size_t>(ra)].radius + nodes_[static_cast<std::size_t>(rb)].radius,
+                                       lp.table});
+    }
 }
 
 void RobotCollisionModel::precompute_fixed_links() {

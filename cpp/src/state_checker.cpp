@@ -308,24 +308,20 @@ class Evaluator {
   /// pairs whose roots overlap.
   bool self_ok_trees() {
     const auto& links = m_.links();
-    const auto& pairs = m_.link_pairs();
     const PairTable* tables = m_.pair_tables().data();
     const int* roots = m_.link_roots().data();
     const double pad = s_.self_margin_m + kBoundSlack_m;
-    const Model::Node* nodes = m_.nodes().data();
     for (std::size_t l = 0; l < links.size(); ++l) node_world(links[l].body, roots[l]);
     const Vec3* nw = w_.node_w.data();
-    for (const int k : m_.check_order()) {
-      const Model::LinkPair& lp = pairs[static_cast<std::size_t>(k)];
-      if (lp.table >= 0) {
-        const PairTable::Cell cell = tables[lp.table].at(q_);
+    for (const Model::PairCheck& pc : m_.check_order()) {
+      if (pc.table >= 0) {
+        const PairTable::Cell cell = tables[pc.table].at(q_);
         if (cell == PairTable::clear) continue;
         if (cell == PairTable::blocked) return false;
       }
-      const int ra = roots[lp.la], rb = roots[lp.lb];
-      const double reach = nodes[ra].radius + nodes[rb].radius + pad;
-      if (reach > 0.0 && (nw[ra] - nw[rb]).squaredNorm() >= reach * reach) continue;
-      if (!pair_descent(lp)) return false;
+      const double reach = pc.radius_sum + pad;
+      if (reach > 0.0 && (nw[pc.root_a] - nw[pc.root_b]).squaredNorm() >= reach * reach) continue;
+      if (!pair_descent(m_.link_pairs()[static_cast<std::size_t>(pc.pair)])) return false;
     }
     return true;
   }
@@ -395,8 +391,8 @@ class Evaluator {
     const auto& gb = m_.geom_bounds();
     const auto& gps = m_.geom_pairs();
     const auto& pairs = m_.sorted_pairs();
-    for (const int k : m_.check_order()) {
-      const auto& lp = m_.link_pairs()[static_cast<std::size_t>(k)];
+    for (const Model::PairCheck& pc : m_.check_order()) {
+      const auto& lp = m_.link_pairs()[static_cast<std::size_t>(pc.pair)];
       if (lp.table >= 0) {
         const PairTable::Cell cell = m_.pair_tables()[static_cast<std::size_t>(lp.table)].at(q_);
         if (cell == PairTable::clear) continue;

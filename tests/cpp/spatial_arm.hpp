@@ -1,7 +1,8 @@
 // A small spatial arm for the state-checker tests (header-only): a base column and four
 // hinged links turned by 90 degrees about x like a Panda's, then a tool turned by 45 degrees
 // about z (a fixed rotation with two terms per column), spheres off the joint axes, every
-// sphere pair of non-adjacent bodies checked. Also an independent forward kinematics
+// sphere pair of non-adjacent bodies checked (links 3 and 5 with enough spheres for a fine
+// joint-space table between them). Also an independent forward kinematics
 // (Eigen rotations, no shared code with RobotChain) and the sphere-by-sphere self test.
 #pragma once
 
@@ -51,9 +52,9 @@ inline RobotCollisionSpec spatial_arm_spec(double self_margin_m = 0.0) {
   };
   for (int k = 0; k < 4; ++k) add(1, Vec3(0.03 * std::cos(k * 1.6), 0.03 * std::sin(k * 1.6), -0.1 * k), 0.08, false);
   for (int k = 0; k < 3; ++k) add(2, Vec3(0.02, 0.01 * k, -0.08 + 0.05 * k), 0.06, false);
-  for (int k = 0; k < 5; ++k) add(3, Vec3(0.01, -0.06 * k, 0.02), 0.055, false);
+  for (int k = 0; k < 8; ++k) add(3, Vec3(0.01, -0.025 * k, 0.02 * (k % 3)), 0.05, false);
   for (int k = 0; k < 4; ++k) add(4, Vec3(0.03, 0.0, -0.05 + 0.04 * k), 0.05, false);
-  for (int k = 0; k < 5; ++k) add(5, Vec3(0.0, 0.05 * k, 0.02 * (k % 2)), 0.045, k >= 3);
+  for (int k = 0; k < 8; ++k) add(5, Vec3(0.01 * (k % 2), 0.07 + 0.025 * k, 0.02 * (k % 2)), 0.04, k >= 5);
   for (int k = 0; k < 4; ++k) add(6, Vec3(0.04 * (k % 2) - 0.02, 0.03 * (k / 2), 0.05), 0.03, true);
   for (std::size_t i = 0; i < s.sphere_body.size(); ++i)
     for (std::size_t j = i + 1; j < s.sphere_body.size(); ++j) {

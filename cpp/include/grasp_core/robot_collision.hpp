@@ -118,9 +118,16 @@ class RobotCollisionModel {
   const std::vector<Vec3>& fixed_node_world() const { return fixed_node_w_; }
   /// Joint-space tables of the link pairs with at most two hinges between their links.
   const std::vector<PairTable>& pair_tables() const { return tables_; }
+  /// A link pair as the checker tests it per state.
+  struct PairCheck {
+    int pair = 0;              ///< index into link_pairs()
+    int root_a = 0, root_b = 0;  ///< the two links' tree roots
+    double radius_sum = 0.0;   ///< of the two roots
+    int table = -1;            ///< as LinkPair::table
+  };
   /// The link pairs the checker tests per state, in the order it tests them (not the
   /// always-clear ones; those with a table first).
-  const std::vector<int>& check_order() const { return check_order_; }
+  const std::vector<PairCheck>& check_order() const { return check_order_; }
   /// Identity of this model among all models built in the process (per-thread caches key on it).
   std::uint64_t id() const { return id_; }
 
@@ -139,7 +146,7 @@ class RobotCollisionModel {
   bool complete_ = false;
   std::vector<std::uint8_t> link_fixed_;
   std::vector<PairTable> tables_;
-  std::vector<int> check_order_;
+  std::vector<PairCheck> check_order_;
   std::vector<Vec3> fixed_sphere_w_, fixed_node_w_;
   std::uint64_t id_ = 0;
 
