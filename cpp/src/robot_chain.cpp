@@ -67,6 +67,33 @@ inline void fast_sincos(double x, double& s, double& c) {
   }
 }
 
+/// Rb = Rp S for a fixed rotation S that is not general (at most two terms per column).
+inline void fixed_rotation(const double* Rp, const RobotChain::Sparse& s, double* Rb) {
+  if (s.identity) {
+    for (int i = 0; i < 9; ++i) Rb[i] = Rp[i];
+  } else if (s.permutation) {  // one term per column (turns by multiples of 90 degrees)
+    for (int j = 0; j < 3; ++j) {
+      const double* a = Rp + 3 * s.row[j][0];
+      const double v = s.value[j][0];
+      for (int i = 0; i < 3; ++i) Rb[3 * j + i] = a[i] * v;
+    }
+  } else {
+    for (int j = 0; j < 3; ++j) sparse_column(Rp, s, j, Rb + 3 * j);
+  }
+}
+
+/// pb = pp + Rp o for a fixed offset o that is not general (at most two terms).
+inline void fixed_offset(const double* Rp, const double* pp, const RobotChain::Sparse& s, double* pb) {
+  const double* a = Rp + 3 * s.row[0][0];
+  const double* c = Rp + 3 * s.row[0][1];
+  const double v = s.value[0][0], w = s.value[0][1];
+  switch (s.count[0]) {
+    case 0: for (int i = 0; i < 3; ++i) pb[i] = pp[i] + 0.0; break;
+    case 1: for (int i = 0; i < 3; ++i) pb[i] = pp[i] + a[i] * v; break;
+    default: for (int i = 0; i < 3; ++i) pb[i] = pp[i] + (a[i] * v + c[i] * w); break;
+  }
+}
+
 }  // namespace
 
 RobotChain::RobotChain(std::vector<ChainBody> bodies) : bodies_(std::move(bodies)) {
@@ -111,42 +138,17 @@ void RobotChain::poses(const double* q, Mat3* R, Vec3* p, int count) const {
   p[0] = bodies_[0].p;
   for (std::size_t b = 1; b < n; ++b) {
     const Step& st = steps_[b];
-    const Sparse& sr = st.rot;
-    const Sparse& sp = st.pos;
     // Plain arrays (column-major) with the same operations, in the same order, as the Eigen
     // expressions they stand for: R_b = R_parent R_fixed, p_b = p_parent + R_parent p_fixed.
-    const double* Rp = R[st.parent].data();
-    const double* pp = p[st.parent].data();
-    double* Rb = R[b].data();
-    double* pb = p[b].data();
-    if (sr.identity) {
-      for (int i = 0; i < 9; ++i) Rb[i] = Rp[i];
-    } else if (sr.permutation) {  // one term per column (turns by multiples of 90 degrees)
-      for (int j = 0; j < 3; ++j) {
-        const double* a = Rp + 3 * sr.row[j][0];
-        const double v = sr.value[j][0];
-        Rb[3 * j] = a[0] * v;
-        Rb[3 * j + 1] = a[1] * v;
-        Rb[3 * j + 2] = a[2] * v;
-      }
-    } else if (sr.general) {
+    if (st.rot.general) {
       R[b] = R[st.parent] * bodies_[b].R;
     } else {
-      for (int j = 0; j < 3; ++j) sparse_column(Rp, sr, j, Rb + 3 * j);
+      fixed_rotation(R[st.parent].data(), st.rot, R[b].data());
     }
-    if (sp.general) {
+    if (st.pos.general) {
       p[b] = p[st.parent] + R[st.parent] * bodies_[b].p;
-    } else if (sp.count[0] == 0) {
-      for (int i = 0; i < 3; ++i) pb[i] = pp[i] + 0.0;
-    } else if (sp.count[0] == 1) {
-      const double* a = Rp + 3 * sp.row[0][0];
-      const double v = sp.value[0][0];
-      for (int i = 0; i < 3; ++i) pb[i] = pp[i] + a[i] * v;
     } else {
-      const double* a = Rp + 3 * sp.row[0][0];
-      const double* c = Rp + 3 * sp.row[0][1];
-      const double v = sp.value[0][0], w = sp.value[0][1];
-      for (int i = 0; i < 3; ++i) pb[i] = pp[i] + (a[i] * v + c[i] * w);
+      fixed_offset(R[st.parent].data(), p[st.parent].data(), st.pos, p[b].data());
     }
     if (st.joint < 0) continue;
     const double angle = q[st.joint] - st.q0_rad;
@@ -154,6 +156,7 @@ void RobotChain::poses(const double* q, Mat3* R, Vec3* p, int count) const {
       // hinge about the body's z axis through its origin (every Panda joint): mix columns
       double cs, sn;
       fast_sincos(st.z_sign > 0.0 ? angle : -angle, sn, cs);
+      double* Rb = R[b].data();
       for (int i = 0; i < 3; ++i) {
         const double c0 = Rb[i], c1 = Rb[3 + i];
         Rb[i] = cs * c0 + sn * c1;
