@@ -10,8 +10,10 @@
 //   clear:   every listed sphere pair keeps clearance >= margin + allowance in the whole cell,
 //   blocked: one listed sphere pair has clearance < margin - allowance in the whole cell,
 //   unknown: neither (the per-state test decides there).
+// A cell that is neither as a whole is halved a few more times to try to prove it clear.
 // The per-state verdict of a clear or blocked cell is the one the sphere test would give, so
-// verdicts are unchanged. Hinges with an offset anchor are not handled (no table).
+// verdicts are unchanged. Hinges with an offset anchor are not handled (no table). The
+// lever bounds are checked against sampled states in tests/cpp/test_pair_table.cpp.
 #pragma once
 
 #include <array>
@@ -67,7 +69,9 @@ struct PairTable {
 };
 
 /// The table of a link pair, or false when there is none (more than two hinges between the
-/// links, or a hinge with an offset anchor).
+/// links, or a hinge with an offset anchor). Built tables are kept, keyed by everything they
+/// depend on, so a model built again (another finger opening) rebuilds only the tables of
+/// the pairs that changed. Thread-safe.
 bool build_pair_table(const PairTableInput& in, PairTable& out);
 
 }  // namespace grasp_core
