@@ -1,6 +1,9 @@
-// Robot chain FK and the planning state checker on a small synthetic planar arm.
+// Robot chain FK and the planning state checker on a small synthetic planar arm and on the
+// spatial arm of spatial_arm.hpp (against sphere-by-sphere references).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 #include <random>
@@ -8,6 +11,7 @@
 
 #include "grasp_core/collision_scene.hpp"
 #include "grasp_core/robot_collision.hpp"
+#include "spatial_arm.hpp"
 
 using namespace grasp_core;
 
@@ -287,4 +291,133 @@ TEST(StateChecker, EqualsSphereBySphereReferenceInAndAroundTheGrid) {
   }
   EXPECT_GT(valid, n / 5);
   EXPECT_LT(valid, n - n / 20);
+}
+
+namespace {
+
+/// Sphere-by-sphere reference of the checker (every test spelled out, the target-cleared map
+/// by the nearest kept point), with the independent forward kinematics of spatial_arm.hpp:
+/// the smallest slack over all tests (valid when >= 0; -1 outside the joint limits).
+double reference_slack(const RobotCollisionSpec& s, const CollisionScene& sc, bool allow, const double* q) {
+  for (int j = 0; j < kArmJoints; ++j)
+    if (!(q[j] >= s.q_min_rad[j] && q[j] <= s.q_max_rad[j])) return -1.0;
+  const std::vector<Vec3> C = grasp_test::reference_centres(s, q);
+  double slack = grasp_test::reference_self_clearance(s, C);
+  for (std::size_t i = 0; i < C.size(); ++i) {
+    if (!s.env_sphere[i]) continue;
+    const double r = s.sphere_radius[i], m = sc.collision_margin_m;
+    slack = std::min(slack, (C[i].z() - r) - sc.floor_z_m);
+    if (sc.has_env) {
+      const double thr = (r + m) + sc.field.inflation_m;
+      const bool cleared = allow && sc.has_cleared && s.hand_sphere[i] && sc.cleared.near(C[i]);
+      slack = std::min(slack, (cleared ? sc.cleared.distance(C[i]) : sc.field.at(C[i])) - thr);
+    }
+    for (const ObstacleBox& b : sc.boxes) slack = std::min(slack, b.distance(C[i]) - (r + m));
+    if (sc.has_points) slack = std::min(slack, sc.points.distance(C[i]) - (r + m));
+  }
+  return slack;
+}
+
+bool reference_valid(const RobotCollisionSpec& s, const CollisionScene& sc, bool allow, const double* q) {
+  return reference_slack(s, sc, allow, q) >= 0.0;
+}
+
+/// The spatial arm's scene: floor, a map of one occupied voxel, two turned boxes, object
+/// points and the target-cleared region around the occupied voxel (with kept points).
+std::shared_ptr<CollisionScene> spatial_scene() {
+  auto sc = std::make_shared<CollisionScene>();
+  sc->collision_margin_m = 0.005;
+  sc->floor_z_m = 0.02;
+  sc->has_env = true;
+  const Vec3 occupied(0.4, 0.2, 0.55);
+  sc->field = one_voxel_field(occupied, 0.01);
+  sc->boxes.emplace_back(Vec3(-0.4, 0.3, 0.45), grasp_test::turn(30, 0, 0, 1), Vec3(0.15, 0.1, 0.2));
+  sc->boxes.emplace_back(Vec3(0.1, -0.5, 0.25), grasp_test::turn(20, 1, 1, 0), Vec3(0.1, 0.2, 0.1));
+  std::mt19937 rng(5);
+  std::normal_distribution<double> n(0.0, 0.03);
+  std::vector<Vec3> blob;
+  for (int k = 0; k < 300; ++k) blob.emplace_back(0.3 + n(rng), -0.3 + n(rng), 0.65 + n(rng));
+  Vec3 lo = blob[0], hi = blob[0];
+  for (const Vec3& b : blob) { lo = lo.cwiseMin(b); hi = hi.cwiseMax(b); }
+  sc->points = ClearedRegion(ObstacleBox(0.5 * (lo + hi), Mat3::Identity(), hi - lo), 0.1, blob, 0.004, 0.0);
+  sc->has_points = true;
+  const std::vector<Vec3> kept = {occupied + Vec3(0.03, 0, 0), occupied + Vec3(0, -0.04, 0.02)};
+  sc->cleared = ClearedRegion(ObstacleBox(occupied, Mat3::Identity(), Vec3::Constant(0.06)), 0.08, kept, 0.002,
+                              sc->field.inflation_m);
+  sc->has_cleared = true;
+  return sc;
+}
+
+}  // namespace
+
+TEST(StateChecker, SpatialArmEqualsSphereBySphereReference) {
+  // Random states and states at the validity boundary (bisection between a valid and an
+  // invalid one, by the reference): check, check_batch and the reference agree, with and
+  // without target contact; the pair tables and the link bounds only shortcut.
+  const RobotCollisionSpec spec = grasp_test::spatial_arm_spec(0.002);
+  const auto model = std::make_shared<RobotCollisionModel>(spec);
+  const auto scene = spatial_scene();
+  StateChecker c(model, scene);
+  std::mt19937 rng(17);
+  for (const bool allow : {false, true}) {
+    c.set_allow_target_contact(allow);
+    std::vector<double> Q;
+    std::vector<std::uint8_t> want;
+    std::vector<std::array<double, kArmJoints>> good, bad;
+    for (int k = 0; k < 12000; ++k) {
+      std::array<double, kArmJoints> q{};  // a few states beyond the limits (joints 4..6 are fixed at 0)
+      for (int j = 0; j < 4; ++j)
+        q[j] = std::uniform_real_distribution<double>(spec.q_min_rad[j] - 0.02, spec.q_max_rad[j] + 0.02)(rng);
+      if (k % 100 == 0) q[4 + k / 100 % 3] = 1e-3;
+      const bool ok = reference_valid(spec, *scene, allow, q.data());
+      (ok ? good : bad).push_back(q);
+      Q.insert(Q.end(), q.begin(), q.end());
+      want.push_back(ok);
+    }
+    for (std::size_t k = 0; k < std::min<std::size_t>(1500, std::min(good.size(), bad.size())); ++k) {
+      auto a = good[k], b = bad[k];
+      for (int it = 0; it < 34; ++it) {  // to ~1e-10 of the boundary, far above rounding
+        std::array<double, kArmJoints> mid{};
+        for (int j = 0; j < kArmJoints; ++j) mid[j] = 0.5 * (a[j] + b[j]);
+        (reference_valid(spec, *scene, allow, mid.data()) ? a : b) = mid;
+      }
+      for (const auto& q : {a, b}) {
+        Q.insert(Q.end(), q.begin(), q.end());
+        want.push_back(reference_valid(spec, *scene, allow, q.data()));
+      }
+    }
+    const std::size_t n = want.size();
+    std::vector<std::uint8_t> got(n, 9);
+    c.check_batch(Q.data(), n, got.data());
+    std::size_t valid = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      ASSERT_EQ(got[k], want[k]) << "state " << k << " allow " << allow << " reference slack "
+                                 << reference_slack(spec, *scene, allow, Q.data() + kArmJoints * k);
+      ASSERT_EQ(c.check(Q.data() + kArmJoints * k), want[k] != 0) << "state " << k;
+      valid += want[k];
+    }
+    EXPECT_GT(valid, n / 5);
+    EXPECT_LT(valid, n - n / 5);
+  }
+}
+
+TEST(RobotChain, PosesEqualIndependentKinematics) {
+  // fixed rotations of every kind (identity, exact quarter turns, rounded, 45 degrees), a
+  // hinge turning about -z, angles within and beyond the fast sine/cosine's range
+  const RobotCollisionSpec spec = grasp_test::spatial_arm_spec();
+  const RobotChain chain(spec.bodies);
+  std::mt19937 rng(23);
+  std::vector<Mat3> R(spec.bodies.size()), Rr;
+  std::vector<Vec3> p(spec.bodies.size()), pr;
+  for (int k = 0; k < 5000; ++k) {
+    const double span = k < 4000 ? 3.5 : 300.0;
+    std::array<double, kArmJoints> q{};
+    for (double& x : q) x = std::uniform_real_distribution<double>(-span, span)(rng);
+    chain.poses(q.data(), R.data(), p.data());
+    grasp_test::reference_poses(spec, q.data(), Rr, pr);
+    for (std::size_t b = 0; b < R.size(); ++b) {
+      ASSERT_LT((R[b] - Rr[b]).cwiseAbs().maxCoeff(), 1e-13) << "body " << b << " span " << span;
+      ASSERT_LT((p[b] - pr[b]).cwiseAbs().maxCoeff(), 1e-13) << "body " << b;
+    }
+  }
 }

@@ -15,10 +15,18 @@
 // first and settle most links without posing their spheres; they are conservative (a
 // link-level "clear" implies every member sphere passes the exact test, with a 1 µm
 // allowance for the float32 distance field), so results equal the sphere-level test. A link
-// bound wholly outside the map's grid is clear of the map at once (every sphere's lookup
-// would be +inf): most links of random states are, and this saves ~90 lookups per state.
-// Self-collision: per checked link pair a descent of both links' bounding-sphere trees
-// (or link pair -> geom pair -> sphere pair when the pair list is not whole link pairs).
+// bound wholly outside the box around every obstacle of the scene (map grid, object boxes,
+// object points, each grown by its clearance) is clear of all of them with one test; else
+// each obstacle's own box is tried, and the map by the distance field at the grid voxel
+// nearest the bound's centre.
+// Self-collision: link pairs with at most two hinges between them are decided ahead of time
+// where that can be proven (pair_table.hpp): never tested when clear everywhere within the
+// joint limits, else a lookup in a table over those joints settles most states. The other
+// states and pairs: a descent of both links' bounding-sphere trees (or link pair -> geom
+// pair -> sphere pair when the pair list is not whole link pairs).
+// Links whose pose does not depend on the arm state (the base) have their world sphere and
+// tree-node centres computed once, with the same arithmetic as per state.
+// The state checker itself is in state_checker.cpp.
 #pragma once
 
 #include <array>
@@ -30,6 +38,7 @@
 #include <vector>
 
 #include "grasp_core/collision_scene.hpp"
+#include "grasp_core/pair_table.hpp"
 #include "grasp_core/robot_chain.hpp"
 
 namespace grasp_core {
@@ -67,10 +76,22 @@ class RobotCollisionModel {
     Bound all, env;       ///< bounds of all / of the environment spheres
     bool has_hand = false;
   };
+  /// The environment bound of a link with environment spheres (Link::env, flattened).
+  struct EnvBound {
+    int link = 0, body = 0;
+    double center[3] = {0, 0, 0};
+    double radius = 0.0;
+    bool hand = false;
+  };
   struct GeomPair { int ga = 0, gb = 0, begin = 0, end = 0; };   ///< sphere pairs [begin, end)
-  struct LinkPair { int la = 0, lb = 0, begin = 0, end = 0; };   ///< geom pairs [begin, end)
+  struct LinkPair {
+    int la = 0, lb = 0, begin = 0, end = 0;  ///< geom pairs [begin, end)
+    bool always_clear = false;  ///< clear everywhere within the joint limits (never tested)
+    int table = -1;             ///< its joint-space table (pair_tables()), -1 for none
+  };
 
   const std::vector<Link>& links() const { return links_; }
+  const std::vector<EnvBound>& env_bounds() const { return env_bounds_; }
   const std::vector<Bound>& geom_bounds() const { return geom_bounds_; }
   const std::vector<GeomPair>& geom_pairs() const { return geom_pairs_; }
   const std::vector<LinkPair>& link_pairs() const { return link_pairs_; }
@@ -90,10 +111,31 @@ class RobotCollisionModel {
   /// True when the pair list is every sphere pair of its link pairs (then the trees are used).
   bool complete_link_pairs() const { return complete_; }
 
+  /// True when link l's pose does not depend on the arm state.
+  bool link_fixed(int l) const { return link_fixed_[static_cast<std::size_t>(l)] != 0; }
+  /// World centres of the spheres (S) and tree nodes of the fixed links (others: zero).
+  const std::vector<Vec3>& fixed_sphere_world() const { return fixed_sphere_w_; }
+  const std::vector<Vec3>& fixed_node_world() const { return fixed_node_w_; }
+  /// Joint-space tables of the link pairs with at most two hinges between their links.
+  const std::vector<PairTable>& pair_tables() const { return tables_; }
+  /// A link pair as the checker tests it per state.
+  struct PairCheck {
+    int pair = 0;              ///< index into link_pairs()
+    int root_a = 0, root_b = 0;  ///< the two links' tree roots
+    double radius_sum = 0.0;   ///< of the two roots
+    int table = -1;            ///< as LinkPair::table
+  };
+  /// The link pairs the checker tests per state, in the order it tests them (not the
+  /// always-clear ones; those with a table first).
+  const std::vector<PairCheck>& check_order() const { return check_order_; }
+  /// Identity of this model among all models built in the process (per-thread caches key on it).
+  std::uint64_t id() const { return id_; }
+
  private:
   RobotCollisionSpec spec_;
   RobotChain chain_;
   std::vector<Link> links_;
+  std::vector<EnvBound> env_bounds_;
   std::vector<int> link_of_body_;
   std::vector<Bound> geom_bounds_;
   std::vector<GeomPair> geom_pairs_;
@@ -102,8 +144,30 @@ class RobotCollisionModel {
   std::vector<Node> nodes_;
   std::vector<int> link_roots_;
   bool complete_ = false;
+  std::vector<std::uint8_t> link_fixed_;
+  std::vector<PairTable> tables_;
+  std::vector<PairCheck> check_order_;
+  std::vector<Vec3> fixed_sphere_w_, fixed_node_w_;
+  std::uint64_t id_ = 0;
 
   int build_tree(std::vector<int>& spheres, std::size_t begin, std::size_t end);
+  void precompute_fixed_links();
+  void build_pair_tables();
+};
+
+/// What the checker derives from a scene once, when the scene is set.
+struct PreparedScene {
+  explicit PreparedScene(std::shared_ptr<const CollisionScene> s);
+  std::shared_ptr<const CollisionScene> scene;
+  /// Axis-aligned boxes around the obstacles the environment spheres are tested against,
+  /// each grown by its clearance (plus the bound allowance): the map's grid (when the map has
+  /// one), every object box (grown by the margin; its rotation taken as a rotation), the
+  /// object points' box (grown by margin + rounding). A link bound farther from one of them
+  /// than its radius is clear of that obstacle. Entry 0 is the box around all others.
+  enum class Kind : std::uint8_t { all, grid, box, points };
+  std::vector<double> lo[3], hi[3];
+  std::vector<Kind> kind;
+  std::vector<int> box;  ///< the object box of each entry (-1 for the grid and the points)
 };
 
 class StateChecker {
@@ -134,10 +198,10 @@ class StateChecker {
   const RobotCollisionModel& robot() const { return *robot_; }
 
  private:
-  std::shared_ptr<const CollisionScene> scene() const;
+  std::shared_ptr<const PreparedScene> scene() const;
 
   std::shared_ptr<const RobotCollisionModel> robot_;
-  std::shared_ptr<const CollisionScene> scene_;
+  std::shared_ptr<const PreparedScene> scene_;
   mutable std::mutex scene_mutex_;
   std::atomic<bool> allow_target_{false};
   mutable std::atomic<std::uint64_t> checked_{0};

@@ -89,6 +89,42 @@ def test_core_equals_reference_on_random_and_boundary_states(planner, table_clou
     assert total >= 10_000 and 0.2 * total < valid < 0.9 * total
 
 
+def _self_boundary(v, rng, n_pairs):
+    """States within ~1e-9 of a self-collision change (bisection on the reference's smallest
+    self clearance between random self-free and self-colliding states), plus jitter."""
+    Q = rng.uniform(v.q_min, v.q_max, size=(10 * n_pairs, 7))
+    margin = v.config.self_collision_margin_m
+    free = v._components(Q)[1] >= margin
+    a, b = Q[free][:n_pairs], Q[~free][:n_pairs]
+    m = min(len(a), len(b))
+    a, b = a[:m], b[:m]
+    lo, hi = np.zeros(m), np.ones(m)
+    for _ in range(BISECTION_STEPS):
+        mid = 0.5 * (lo + hi)
+        ok = v._components(a + (b - a) * mid[:, None])[1] >= margin
+        lo, hi = np.where(ok, mid, lo), np.where(ok, hi, mid)
+    edge = np.vstack([a + (b - a) * lo[:, None], a + (b - a) * hi[:, None]])
+    jitter = [edge + rng.normal(0.0, s, edge.shape) for s in (1e-8, 1e-6, 1e-4)]
+    return np.clip(np.vstack([edge] + jitter), v.q_min, v.q_max)
+
+
+def test_core_equals_reference_at_self_collision_boundaries(planner, table_cloud, rng):
+    """Self-collision decided ahead of time (link pairs proven clear, joint-space tables of
+    the hand against the forearm) and by the sphere trees: identical to the reference on
+    states at the self-collision boundary, including hand states turning about the last two
+    joints, in free space and in the table scene."""
+    for scene in ("free", "table"):
+        if scene == "free":
+            planner.set_scene(np.zeros((0, 3)))
+        v = planner.validator if scene == "free" else _scene(planner, table_cloud, rng)
+        Q = _self_boundary(v, rng, 200)
+        wrist = np.repeat(rng.uniform(v.q_min, v.q_max, size=(40, 7)), 50, axis=0)
+        wrist[:, 5:] = rng.uniform(v.q_min[5:], v.q_max[5:], size=(len(wrist), 2))  # hand vs forearm
+        ref_self = v._components(Q)[1] >= v.config.self_collision_margin_m
+        assert 0.2 * len(Q) < ref_self.sum() < 0.8 * len(Q)
+        _compare(v, np.vstack([Q, wrist]))
+
+
 def test_core_segments_equal_reference(planner, table_cloud, rng):
     v = _scene(planner, table_cloud, rng)
     step = planner.config.planner_check_step_rad
