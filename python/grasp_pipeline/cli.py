@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Optional
 
 from .exceptions import GraspPipelineError
+from .messages import shorten
 
 log = logging.getLogger("grasp_pipeline")
 
@@ -407,7 +408,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         return _run(args)
     except GraspPipelineError as exc:
-        log.error("%s", exc)
+        log.error("%s", shorten(str(exc)))
         return 2
     except KeyboardInterrupt:
         log.error("interrupted")
