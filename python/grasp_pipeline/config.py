@@ -18,6 +18,7 @@ Usage::
 from __future__ import annotations
 
 import dataclasses
+import difflib
 import math
 import stat
 import typing
@@ -28,7 +29,7 @@ import yaml
 
 from .assets import default_config_dir
 from .exceptions import ConfigError
-from .messages import brief, shorten
+from .messages import brief, name, shorten
 
 T = TypeVar("T")
 
@@ -201,6 +202,21 @@ def _coerce(label: str, name: str, typ: Any, value: Any) -> Any:
     return value
 
 
+def unknown_names(unknown: list[str], known: list[str], section: str, source: str = "") -> str:
+    """The message about parameter names a set does not have: close matches, and where the
+    set's names are listed."""
+    close = {u: difflib.get_close_matches(u, known, n=1, cutoff=0.7) for u in unknown[:5]}
+    hints = [(u, c[0]) for u, c in close.items() if c]
+    hint = ""
+    if len(unknown) == 1 and hints:
+        hint = f" (did you mean {hints[0][1]}?)"
+    elif hints:
+        hint = " (did you mean " + ", ".join(f"{c} for {name(u)}" for u, c in hints) + "?)"
+    where = f" in {source}" if source else ""
+    return (f"unknown parameter(s) {shorten(', '.join(map(name, unknown)), 200)}{where} for {section}{hint}; "
+            f"its parameters are listed in config/{section}.yaml")
+
+
 def build_config(cls: type[T], values: Mapping[str, Any], source: str = "", section: str = "") -> T:
     """Instantiate ``cls`` from a mapping, rejecting unknown names; messages name
     ``section.name`` (the class name when no section is given) and ``source``."""
@@ -210,11 +226,7 @@ def build_config(cls: type[T], values: Mapping[str, Any], source: str = "", sect
     fields = {f.name: f for f in dataclasses.fields(cls)}
     unknown = sorted(str(k) for k in set(values) - set(fields))
     if unknown:
-        where = f" in {source}" if source else ""
-        raise ConfigError(
-            f"unknown parameter(s) {shorten(', '.join(unknown), 200)}{where} for "
-            f"{section or cls.__name__}; known: {', '.join(sorted(fields))}"
-        )
+        raise ConfigError(unknown_names(unknown, list(fields), section or cls.__name__, source))
     label = section or cls.__name__
     kwargs = {k: _coerce(label, k, hints[k], v) for k, v in values.items()}
     obj = cls(**kwargs)
@@ -239,4 +251,6 @@ def load_config(
         values.update(read_yaml(path))
     if overrides:
         values.update(overrides)
-    return build_config(cls, values, source=str(path or default_file), section=name)
+    source = "the overrides (--set)" if overrides and any(k not in {f.name for f in dataclasses.fields(cls)}
+                                                          for k in overrides) else str(path or default_file)
+    return build_config(cls, values, source=source, section=name)

@@ -35,3 +35,8 @@ def shorten(text: str, limit: int = MAX_MESSAGE_CHARS) -> str:
         return text
     keep = max(limit - 30, 10)
     return f"{text[:keep]}... ({len(text) - keep} more characters)"
+
+
+def name(text: object) -> str:
+    """A name from the user as typed when it is a plain identifier, else quoted and cut."""
+    return text if isinstance(text, str) and text.isidentifier() else brief(text, 40)

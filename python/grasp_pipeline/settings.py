@@ -20,9 +20,9 @@ import importlib
 from types import MappingProxyType
 from typing import Any, Iterable, Mapping
 
-from .config import build_config, load_config, parse_yaml, read_yaml
+from .config import build_config, load_config, parse_yaml, read_yaml, unknown_names
 from .exceptions import ConfigError
-from .messages import brief, shorten
+from .messages import brief
 
 #: The one registry of parameter sets: section name -> (module, dataclass name). The YAML
 #: file is config/<section>.yaml; the module is imported only when the section is loaded.
@@ -99,11 +99,10 @@ def load_settings(sections: Iterable[str], config_file: str | None = None,
             cls = section_class(sec)  # unknown section -> error
             if not isinstance(values, dict):
                 raise ConfigError(f"{config_file}: section {sec!r} must be a mapping of name: value")
-            unknown = sorted(str(k) for k in set(values) - {f.name for f in dataclasses.fields(cls)})
+            names = [f.name for f in dataclasses.fields(cls)]
+            unknown = sorted(str(k) for k in set(values) - set(names))
             if unknown:
-                raise ConfigError(f"{config_file}: unknown parameter(s) {shorten(', '.join(unknown), 200)} "
-                                  f"in section {sec!r}; known: "
-                                  f"{', '.join(sorted(f.name for f in dataclasses.fields(cls)))}")
+                raise ConfigError(unknown_names(unknown, names, sec, str(config_file)))
             if sec in overrides:
                 overrides[sec].update(values)
             else:  # not used by this command: still validate the names and values

@@ -194,7 +194,8 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
                  scan: bool = True, grasp_source: Optional[GraspSource] = None,
                  prepare: Optional[Callable[[System], None]] = None,
                  objects: str = "builtin", declutter: bool = False,
-                 pick: Sequence[str] = (), rerun: str | Path | None = None) -> RunReport:
+                 pick: Sequence[str] = (), rerun: str | Path | None = None,
+                 mark_output: bool = True) -> RunReport:
     """Run the whole pipeline headless; returns (and writes to ``json_path``) the report.
 
     ``scene``: ``"reference"``, ``"random"``/``"sparse"``, ``"packed"``, ``"pile"`` (with
@@ -210,12 +211,14 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
     the perceived objects after the scan (:mod:`grasp_pipeline.language`; instead of
     ``select``); a refusal ends the run with status failed and the reason as its error;
     ``rerun``: also record the run into this ``.rrd`` file (:mod:`~grasp_pipeline.report.rerun_recorder`;
-    the Rerun SDK is an optional extra, checked before the simulation starts)."""
+    the Rerun SDK is an optional extra, checked before the simulation starts);
+    ``mark_output``: mark ``out_dir`` while the run writes there, so that a second command
+    writing it warns (off for a benchmark's own round folders: the benchmark marks its --out)."""
     wall0 = time.perf_counter()
     settings = settings or load_settings(SECTIONS)
     out_dir = Path(out_dir)
     _check_outputs(out_dir, json_path, rerun)
-    with output_claim(out_dir, "run") as claim:
+    with output_claim(out_dir, "run", enabled=mark_output) as claim:
         report = RunReport(scene={"name": getattr(scene, "name", str(scene)), "seed": seed,
                                   "objects": None}, settings=settings.as_dict())
         report.warnings += [claim.warning] if claim.warning else []

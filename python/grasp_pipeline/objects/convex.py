@@ -33,6 +33,7 @@ import hashlib
 import logging
 import os
 import tempfile
+import threading
 import time
 import warnings
 from dataclasses import asdict, dataclass
@@ -62,10 +63,11 @@ FLAT_VOLUME_RATIO = 1e-6
 #: What to install for the decomposition.
 INSTALL_HINT = "pip install '.[meshes]'"
 #: A cached decomposition's parts span the mesh's bounding box within this fraction of its
-#: largest extent (CoACD's parts are hulls of pieces of the surface: they hardly stick out).
-CACHE_BOUNDS_TOLERANCE = 0.05
+#: largest extent (CoACD's parts are hulls of pieces of the surface: on 14 household meshes they
+#: were within 0.01 % of it, their volume within 1.00-1.08 times the mesh's, no vertex outside).
+CACHE_BOUNDS_TOLERANCE = 0.02
 #: ... and their total volume is within this factor of the mesh's volume, either way.
-CACHE_VOLUME_FACTOR = 2.0
+CACHE_VOLUME_FACTOR = 1.5
 #: ... and at most this share of the mesh's vertices lie outside every part (by more than that
 #: tolerance).
 CACHE_MAX_OUTSIDE = 0.05
@@ -243,7 +245,7 @@ def _read_cache(path: Path, mesh: trimesh.Trimesh, key: str) -> tuple[Optional[t
         stored = str(arrays["key"]) if "key" in arrays and arrays["key"].dtype.kind == "U" else ""
         why = _misfit(parts, mesh, stored, key)
     except Exception as exc:  # a truncated or foreign file: recompute and overwrite it
-        return None, f"convex cache {path} is unreadable ({brief(exc, 120)}); recomputed"
+        return None, f"convex cache {path} is unreadable or malformed ({brief(exc, 120)}); recomputed"
     if why:
         return None, f"convex cache {path} does not fit its mesh: {why}; recomputed"
     return parts, ""
@@ -280,15 +282,31 @@ def _import_coacd():
 
 
 def _run_coacd(coacd, mesh: trimesh.Trimesh, params: DecompositionParams) -> list:
+    """CoACD's parts (their hulls). CoACD runs in a worker thread (it releases the GIL) while
+    this thread waits in short steps, so Ctrl-C / SIGTERM end a decomposition of minutes at once
+    (the thread is a daemon: it does not keep the process alive)."""
     coacd.set_log_level("error")
-    pieces = coacd.run_coacd(
-        coacd.Mesh(np.asarray(mesh.vertices, dtype=np.float64), np.asarray(mesh.faces, dtype=np.int32)),
-        threshold=params.threshold, max_convex_hull=params.max_parts,
-        preprocess_mode=params.preprocess_mode, preprocess_resolution=params.preprocess_resolution,
-        resolution=params.resolution, mcts_nodes=params.mcts_nodes,
-        mcts_iterations=params.mcts_iterations, mcts_max_depth=params.mcts_max_depth,
-        seed=params.seed)
-    return [h for h in (hull_of(trimesh.Trimesh(v, f)) for v, f in pieces) if h is not None]
+    out: dict = {}
+
+    def work() -> None:
+        try:
+            out["pieces"] = coacd.run_coacd(
+                coacd.Mesh(np.asarray(mesh.vertices, dtype=np.float64), np.asarray(mesh.faces, dtype=np.int32)),
+                threshold=params.threshold, max_convex_hull=params.max_parts,
+                preprocess_mode=params.preprocess_mode, preprocess_resolution=params.preprocess_resolution,
+                resolution=params.resolution, mcts_nodes=params.mcts_nodes,
+                mcts_iterations=params.mcts_iterations, mcts_max_depth=params.mcts_max_depth,
+                seed=params.seed)
+        except Exception as exc:  # handed to the caller
+            out["error"] = exc
+
+    worker = threading.Thread(target=work, name="coacd", daemon=True)
+    worker.start()
+    while worker.is_alive():
+        worker.join(0.2)
+    if "error" in out:
+        raise out["error"]
+    return [h for h in (hull_of(trimesh.Trimesh(v, f)) for v, f in out["pieces"]) if h is not None]
 
 
 def decompose(mesh: trimesh.Trimesh, params: DecompositionParams = DecompositionParams(), *,

@@ -121,9 +121,10 @@ def claim_output(folder: str | Path, command: str) -> OutputClaim:
 
 
 @contextmanager
-def output_claim(folder: str | Path, command: str) -> Iterator[OutputClaim]:
-    """:func:`claim_output` for the block, released at its end whatever happens."""
-    claim = claim_output(folder, command)
+def output_claim(folder: str | Path, command: str, enabled: bool = True) -> Iterator[OutputClaim]:
+    """:func:`claim_output` for the block, released at its end whatever happens (``enabled``
+    False: no marker)."""
+    claim = claim_output(folder, command) if enabled else OutputClaim(Path(folder), None)
     try:
         yield claim
     finally:
