@@ -212,16 +212,15 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
     ``select``); a refusal ends the run with status failed and the reason as its error;
     ``rerun``: also record the run into this ``.rrd`` file (:mod:`~grasp_pipeline.report.rerun_recorder`;
     the Rerun SDK is an optional extra, checked before the simulation starts);
-    ``mark_output``: mark ``out_dir`` while the run writes there, so that a second command
-    writing it warns (off for a benchmark's own round folders: the benchmark marks its --out)."""
+    ``mark_output``: mark ``out_dir`` while writing there, so that a second writer warns (the
+    benchmarks mark their --out and not their rounds' folders)."""
     wall0 = time.perf_counter()
     settings = settings or load_settings(SECTIONS)
     out_dir = Path(out_dir)
     _check_outputs(out_dir, json_path, rerun)
     with output_claim(out_dir, "run", enabled=mark_output) as claim:
-        report = RunReport(scene={"name": getattr(scene, "name", str(scene)), "seed": seed,
-                                  "objects": None}, settings=settings.as_dict())
-        report.warnings += [claim.warning] if claim.warning else []
+        report = RunReport(scene={"name": getattr(scene, "name", str(scene)), "seed": seed, "objects": None},
+                           settings=settings.as_dict(), warnings=[claim.warning] if claim.warning else [])
         system = _build(scene, seed, settings, objects, report, wall0, json_path)
         if system is None:
             return report

@@ -22,6 +22,7 @@ from typing import Optional, Sequence
 import numpy as np
 import trimesh
 
+from .. import signals
 from .convex import DecompositionParams, convex_parts, limit_parts
 from .model import MeshError, ObjectModel
 from .urdf import UrdfGeometry, parse_urdf
@@ -258,6 +259,7 @@ def load_object_dir(folder: "str | os.PathLike", *, scale: float = 1.0,
     if not entries:
         raise MeshError(f"{folder}: no object files (.urdf, {', '.join(MESH_SUFFIXES)}) in the folder")
     objects = []
+    mark = signals.received()
     for entry in entries:
         try:
             objects.append(load_object(entry, scale=scale, cache_dir=cache_dir, params=params))
@@ -265,6 +267,7 @@ def load_object_dir(folder: "str | os.PathLike", *, scale: float = 1.0,
             if not skip_bad:
                 raise
             log.warning("skipping an object: %s", exc)
+        signals.raise_if_received_since(mark, f"loading the objects of {folder}")  # (trimesh may swallow it)
     return objects
 
 

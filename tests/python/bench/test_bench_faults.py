@@ -94,3 +94,18 @@ def test_a_benchmark_whose_every_round_timed_out_fails(runs):
     assert stdout.startswith("STATUS FAILED: 1 of 1 rounds")
     assert "did not run to their end" in (d / "out" / "summary.md").read_text()
     assert leftovers(d) == []
+
+
+def test_rounds_and_scenes_that_did_not_run_make_the_status():
+    from grasp_pipeline.bench.clutter_bench import run_status
+    from grasp_pipeline.bench.grasp_bench import _status
+
+    ok, timeout, died = {"error_category": None}, {"error_category": "Timeout"}, {"error_category": "WorkerDied"}
+    assert run_status([ok, ok], False) == ("complete", "")
+    assert run_status([ok, timeout, died], False) == (
+        "partial", "2 of 3 rounds did not run to their end (Timeout x1, WorkerDied x1)")
+    assert run_status([timeout, timeout], False)[0] == "failed"
+    assert run_status([ok], True)[0] == "interrupted" and run_status([], False)[0] == "complete"
+    raised = {"error": "ValueError: bad"}
+    assert _status([{"error": None}, raised], False) == ("partial", "1 of 2 scenes did not run to their end (ValueError x1)")
+    assert _status([raised], False)[0] == "failed"
