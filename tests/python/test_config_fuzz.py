@@ -5,7 +5,7 @@ nested lists and mappings, anchors and aliases, and raw text that is no YAML at 
 
 The invariant: the loader returns settings whose every number lies inside its declared range, or
 raises a ConfigError whose message is one line of at most 1000 characters — nothing else, and
-quickly. CI runs GRASP_FUZZ_EXAMPLES examples (default 60 per test, a few seconds); a long run:
+quickly. CI runs GRASP_FUZZ_EXAMPLES examples (default 30 per test, a few seconds); a long run:
 
     GRASP_FUZZ_EXAMPLES=20000 PYTHONPATH=python .venv/bin/python -m pytest -q \\
         tests/python/test_config_fuzz.py --hypothesis-show-statistics
@@ -25,7 +25,7 @@ from grasp_pipeline.config_ranges import check_ranges
 from grasp_pipeline.exceptions import ConfigError
 from grasp_pipeline.settings import SECTIONS, load_settings, section_class
 
-EXAMPLES = int(os.environ.get("GRASP_FUZZ_EXAMPLES", "60"))
+EXAMPLES = int(os.environ.get("GRASP_FUZZ_EXAMPLES", "30"))
 FUZZ = settings(max_examples=EXAMPLES, deadline=2000, derandomize=not os.environ.get("GRASP_FUZZ_RANDOM"),
                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
 

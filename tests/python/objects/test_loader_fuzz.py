@@ -5,7 +5,7 @@ with any numbers in their attributes and references to such meshes.
 
 The invariant: :func:`load_object` returns an object whose parts are convex, finite, of positive
 volume and of a household size, or raises a MeshError naming the file — nothing else, quickly.
-CI runs GRASP_FUZZ_EXAMPLES examples (default 40 per test, a few seconds); a long run:
+CI runs GRASP_FUZZ_EXAMPLES examples (default 25 per test, a few seconds); a long run:
 
     GRASP_FUZZ_EXAMPLES=5000 PYTHONPATH=python .venv/bin/python -m pytest -q \\
         tests/python/objects/test_loader_fuzz.py --hypothesis-show-statistics
@@ -24,7 +24,7 @@ from grasp_pipeline.objects.convex import DecompositionParams
 from grasp_pipeline.objects.mesh_object import MAX_EXTENT_M, MIN_EXTENT_M, load_object
 from grasp_pipeline.objects.model import MeshError
 
-EXAMPLES = int(os.environ.get("GRASP_FUZZ_EXAMPLES", "40"))
+EXAMPLES = int(os.environ.get("GRASP_FUZZ_EXAMPLES", "25"))
 FUZZ = settings(max_examples=EXAMPLES, deadline=None, derandomize=not os.environ.get("GRASP_FUZZ_RANDOM"),
                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture,
                                        HealthCheck.data_too_large])
