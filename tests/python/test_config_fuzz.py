@@ -18,7 +18,7 @@ import os
 import string
 
 import yaml
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
 from grasp_pipeline.config_ranges import check_ranges
@@ -41,8 +41,14 @@ values = st.recursive(scalars, lambda inner: st.one_of(st.lists(inner, max_size=
                                                        st.dictionaries(YAML_TEXT, inner, max_size=4)),
                       max_leaves=30)
 names = st.one_of(st.sampled_from(NAMES), YAML_TEXT)
-sections = st.dictionaries(st.one_of(st.sampled_from(ALL), YAML_TEXT),
-                           st.one_of(st.dictionaries(names, values, max_size=6), values), max_size=4)
+#: A set's own names with any values (the range checks' inputs) ...
+own = st.sampled_from(ALL).flatmap(lambda s: st.dictionaries(
+    st.just(s), st.dictionaries(st.sampled_from([f.name for f in dataclasses.fields(section_class(s))]),
+                                values, min_size=1, max_size=3), min_size=1))
+#: ... or anything (unknown sections and names, values that are no mapping).
+sections = st.one_of(own, st.dictionaries(st.one_of(st.sampled_from(ALL), YAML_TEXT),
+                                          st.one_of(st.dictionaries(names, values, max_size=6), values),
+                                          max_size=4))
 
 
 def _check(fn, *args) -> None:
@@ -51,7 +57,10 @@ def _check(fn, *args) -> None:
     except ConfigError as exc:
         msg = str(exc)
         assert "\n" not in msg and 0 < len(msg) <= 1000, msg[:2000]
+        event("refused: " + ("out of range" if "out of range" in msg else "unknown name" if "unknown" in msg
+                             else "type" if "cannot use" in msg or " is not " in msg else "other"))
         return
+    event("accepted")
     for name in loaded.sections():
         check_ranges(getattr(loaded, name), name)  # every accepted number is inside its range
 
@@ -76,7 +85,8 @@ def test_raw_text_as_a_config_file_loads_or_is_refused_in_one_line(tmp_path_fact
 @FUZZ
 @given(items=st.lists(st.tuples(st.one_of(names, st.sampled_from(ALL).flatmap(
            lambda s: st.sampled_from([f"{s}.{f.name}" for f in dataclasses.fields(section_class(s))]))),
-           st.one_of(values.map(lambda v: yaml.safe_dump(v, default_flow_style=True).strip()), YAML_TEXT)),
+           st.one_of(values.map(lambda v: yaml.safe_dump(v, default_flow_style=True).strip()), YAML_TEXT,
+                     st.floats(allow_nan=True, allow_infinity=True).map(repr), st.integers().map(str))),
            min_size=1, max_size=4))
 def test_set_overrides_load_or_are_refused_in_one_line(items):
     _check(load_settings, ALL, None, [f"{n}={r}" for n, r in items])

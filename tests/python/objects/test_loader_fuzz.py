@@ -1,6 +1,7 @@
 """Hypothesis fuzz of the object loader (``--objects``: OBJ, STL, URDF files) over the full range:
 vertices from subnormals to float64's largest, NaN and infinities, faces with indices out of
-range, negative or repeated, garbage lines, several groups, binary STL with any bytes, URDFs
+range, negative or repeated, garbage lines, several groups, a closed non-convex L block (CoACD)
+scaled and jittered or with faces missing, binary STL with any bytes, URDFs
 with any numbers in their attributes and references to such meshes.
 
 The invariant: :func:`load_object` returns an object whose parts are convex, finite, of positive
@@ -17,12 +18,13 @@ import os
 import struct
 
 import numpy as np
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
 from grasp_pipeline.objects.convex import DecompositionParams
 from grasp_pipeline.objects.mesh_object import MAX_EXTENT_M, MIN_EXTENT_M, load_object
 from grasp_pipeline.objects.model import MeshError
+from test_mesh_objects import l_prism
 
 EXAMPLES = int(os.environ.get("GRASP_FUZZ_EXAMPLES", "25"))
 FUZZ = settings(max_examples=EXAMPLES, deadline=None, derandomize=not os.environ.get("GRASP_FUZZ_RANDOM"),
@@ -32,7 +34,7 @@ FUZZ = settings(max_examples=EXAMPLES, deadline=None, derandomize=not os.environ
 PARAMS = DecompositionParams(threshold=0.2, resolution=300, mcts_iterations=20, mcts_nodes=5)
 
 F64 = np.finfo(np.float64)
-SPECIAL = [0.0, -0.0, 5e-324, 1e-300, F64.max, -F64.max, float("nan"), float("inf"), -float("inf"),
+SPECIAL = [0.0, -0.0, 5e-324, 1e-300, float(F64.max), -float(F64.max), float("nan"), float("inf"), -float("inf"),
            1e30, -1e30, 0.001, 0.05, -0.05, 0.5, 1.0, 2.0, 1000.0]
 coord = st.one_of(st.sampled_from(SPECIAL), st.floats(allow_nan=True, allow_infinity=True),
                   st.floats(-0.1, 0.1), st.floats(-0.06, 0.06))
@@ -41,7 +43,22 @@ index = st.one_of(st.integers(-20, 40), st.sampled_from([0, -1, 2**31, -(2**63),
 
 
 @st.composite
+def l_block_text(draw) -> str:
+    """The closed L prism of the mesh tests (decomposed by CoACD), scaled, jittered, with faces
+    missing (open: collides as its hull) or repeated."""
+    mesh = l_prism(arm=draw(st.sampled_from([0.05, 0.002, 0.3, 3.0])), height=draw(st.floats(1e-4, 0.2)))
+    v = mesh.vertices + np.array(draw(st.lists(st.floats(-0.003, 0.003), min_size=3 * len(mesh.vertices),
+                                               max_size=3 * len(mesh.vertices)))).reshape(-1, 3)
+    drop = draw(st.sets(st.integers(0, len(mesh.faces) - 1), max_size=3))
+    faces = [f for i, f in enumerate(mesh.faces) if i not in drop] + draw(st.lists(st.sampled_from(list(mesh.faces)), max_size=2))
+    return "\n".join([f"v {float(x)!r} {float(y)!r} {float(z)!r}" for x, y, z in v]
+                     + [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in faces]) + "\n"
+
+
+@st.composite
 def obj_text(draw) -> str:
+    if draw(st.integers(0, 5)) == 0:
+        return draw(l_block_text())
     lines = []
     for g in range(draw(st.integers(1, 3))):
         if draw(st.booleans()):
@@ -74,7 +91,10 @@ def _check(path) -> None:
     except MeshError as exc:
         msg = str(exc)
         assert path.name in msg and "\n" not in msg, msg
+        event("refused: " + msg.split(": ", 1)[-1][:24])
         return
+    event(f"loaded: {'several parts' if len(obj.parts) > 1 else 'one part'}"
+          + (", with warnings" if obj.warnings else ""))
     assert obj.parts
     for p in obj.parts:
         assert np.isfinite(p.vertices).all() and p.volume > 0 and p.is_convex
