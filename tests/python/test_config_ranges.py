@@ -108,3 +108,10 @@ def test_types_are_checked_with_the_range():
                           ({"steps_m": (0.5, 2.0)}, "demo.steps_m[1] = 2.0 is out of range")):
         with pytest.raises(ConfigError, match=words.replace("[", r"\[").replace("]", r"\]")):
             check_ranges(Demo(**kwargs), "demo")
+
+
+def test_the_shared_gripper_opening_is_the_robot_description_s():
+    from grasp_pipeline.config_ranges import GRIPPER_OPENING_M
+    from grasp_pipeline.robot.description import GRIPPER_MAX_WIDTH_M  # (imports MuJoCo: not in config_ranges)
+
+    assert GRIPPER_OPENING_M == GRIPPER_MAX_WIDTH_M

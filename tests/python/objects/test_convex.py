@@ -16,7 +16,7 @@ import trimesh
 from grasp_pipeline.objects import convex
 from grasp_pipeline.objects.catalog import object_set
 from grasp_pipeline.objects.convex import DecompositionParams, cache_key, hull_of
-from grasp_pipeline.objects.mesh_object import load_mesh_object, read_mesh_bodies
+from grasp_pipeline.objects.mesh_object import load_mesh_object, load_object, read_mesh_bodies
 from grasp_pipeline.objects.model import MeshError
 from test_mesh_objects import l_prism
 
@@ -155,13 +155,18 @@ def test_a_small_hole_is_filled_and_the_body_decomposed(tmp_path):
     assert len(obj.parts) >= 2 and not any("open or non-manifold" in w for w in obj.warnings)
 
 
-def test_a_mesh_file_over_the_limit_is_refused_before_reading(tmp_path):
+def test_mesh_and_urdf_files_over_the_limit_are_refused_before_reading(tmp_path):
     path = tmp_path / "huge.obj"
     with path.open("wb") as fh:  # 200 MB, sparse: reading it would take long, stat does not
         fh.truncate(200_000_000)
     t0 = time.perf_counter()
     with pytest.raises(MeshError, match=r"huge.obj: 200 MB is more than a mesh file may be \(32 MB\)"):
         read_mesh_bodies(path)
+    urdf = tmp_path / "huge.urdf"
+    with urdf.open("wb") as fh:
+        fh.truncate(50_000_000)
+    with pytest.raises(MeshError, match=r"huge.urdf: 50 MB is more than an object's URDF may be"):
+        load_object(urdf)
     assert time.perf_counter() - t0 < 1.0
 
 
