@@ -72,7 +72,7 @@ def test_yaml_errors_are_one_line_with_the_place(tmp_path):
 
 
 @pytest.mark.parametrize("text, words", [
-    ("grasp:\n  1: 2\n  lift_height_m: 0.1\n", "unknown parameter(s) 1"),
+    ("grasp:\n  1: 2\n  lift_height_m: 0.1\n", "unknown parameter(s) '1'"),
     ("1: {}\n", "unknown config section 1"),
     ("grasp: [1, 2]\n", "must be a mapping"),
     ("grasp:\n  lift_height_m: {a: 1}\n", "cannot use it as a number"),
