@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Optional
 
 from .exceptions import GraspPipelineError
+from .messages import shorten
 
 log = logging.getLogger("grasp_pipeline")
 
@@ -297,8 +298,9 @@ def _print_json(result: dict) -> None:
     print(dumps(result, sort_keys=True))
 
 
-def _run_bench(args: argparse.Namespace) -> None:
-    """The ``bench`` sub-commands."""
+def _run_bench(args: argparse.Namespace) -> int:
+    """The ``bench`` sub-commands; the exit code (1 when no scene or round of ``bench grasp`` /
+    ``bench clutter`` ran to its end: status ``failed``)."""
     if args.bench == "perception":
         from .bench.perception_bench import run_perception_benchmark
 
@@ -326,6 +328,7 @@ def _run_bench(args: argparse.Namespace) -> None:
                                      backend=args.backend, address=args.address)
         print(headline(result))
         print(f"JSON: {args.json}\nsummary: {result['summary']}")
+        return 1 if result["status"] == "failed" else 0
     elif args.bench == "clutter":
         from .bench.clutter_bench import headline as clutter_headline
         from .bench.clutter_bench import run_clutter_benchmark
@@ -338,6 +341,7 @@ def _run_bench(args: argparse.Namespace) -> None:
             rerun_dir=args.rerun)
         print(clutter_headline(result))
         print(f"JSON: {args.json}\nsummary: {result['summary']}")
+        return 1 if result["status"] == "failed" else 0
     elif args.bench == "workers":
         from .bench.workers_bench import run_workers_benchmark
 
@@ -352,6 +356,7 @@ def _run_bench(args: argparse.Namespace) -> None:
                                          json_path=args.json, out_dir=args.out,
                                          progress=not args.no_progress,
                                          overrides=(args.config, args.sets)))
+    return 0
 
 
 def _run(args: argparse.Namespace) -> int:
@@ -364,8 +369,7 @@ def _run(args: argparse.Namespace) -> int:
 
         return run_command(args)
     if args.command == "bench":
-        _run_bench(args)
-        return 0
+        return _run_bench(args)
     if args.command == "record":
         from .dataset.record_command import record_main
 
@@ -407,7 +411,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         return _run(args)
     except GraspPipelineError as exc:
-        log.error("%s", exc)
+        log.error("%s", shorten(str(exc)))
         return 2
     except KeyboardInterrupt:
         log.error("interrupted")

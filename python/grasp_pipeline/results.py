@@ -169,6 +169,7 @@ class RunReport:
     extra: dict = field(default_factory=dict)
     end_reason: Optional[str] = None   # with --declutter: why the round of picks ended
     resolved: list = field(default_factory=list)   # PickResolution of each --pick description
+    object_notes: dict = field(default_factory=dict)  # object model -> source, loader notes, warnings
 
     @property
     def all_picked(self) -> bool:

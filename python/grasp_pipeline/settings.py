@@ -15,14 +15,14 @@ Unknown sections and names are errors (:class:`ConfigError`) that list what is k
 from __future__ import annotations
 
 import dataclasses
+import difflib
 import importlib
 from types import MappingProxyType
 from typing import Any, Iterable, Mapping
 
-import yaml
-
-from .config import build_config, load_config, read_yaml
+from .config import build_config, load_config, parse_yaml, read_yaml, unknown_names
 from .exceptions import ConfigError
+from .messages import brief
 
 #: The one registry of parameter sets: section name -> (module, dataclass name). The YAML
 #: file is config/<section>.yaml; the module is imported only when the section is loaded.
@@ -49,8 +49,8 @@ SECTIONS: Mapping[str, tuple[str, str]] = MappingProxyType({
 
 
 def section_class(name: str) -> type:
-    if name not in SECTIONS:
-        raise ConfigError(f"unknown config section {name!r}; known: {', '.join(sorted(SECTIONS))}")
+    if not isinstance(name, str) or name not in SECTIONS:
+        raise ConfigError(f"unknown config section {brief(name)}; known: {', '.join(sorted(SECTIONS))}")
     module, cls_name = SECTIONS[name]
     return getattr(importlib.import_module(module), cls_name)
 
@@ -60,16 +60,12 @@ def parse_set(items: Iterable[str]) -> list[tuple[str, Any]]:
     out = []
     for item in items:
         if "=" not in item:
-            raise ConfigError(f"--set {item!r}: expected name=value (e.g. --set scene_filter.band=0.02)")
+            raise ConfigError(f"--set {brief(item)}: expected name=value (e.g. --set scene_filter.band=0.02)")
         name, raw = item.split("=", 1)
         name = name.strip()
         if not name:
-            raise ConfigError(f"--set {item!r}: empty parameter name")
-        try:
-            value = yaml.safe_load(raw)
-        except yaml.YAMLError as exc:
-            raise ConfigError(f"--set {item!r}: cannot parse the value ({exc})") from None
-        out.append((name, value))
+            raise ConfigError(f"--set {brief(item)}: empty parameter name")
+        out.append((name, parse_yaml(raw, f"--set {brief(name)}")))
     return out
 
 
@@ -106,32 +102,40 @@ def load_settings(sections: Iterable[str], config_file: str | None = None,
             cls = section_class(sec)  # unknown section -> error
             if not isinstance(values, dict):
                 raise ConfigError(f"{config_file}: section {sec!r} must be a mapping of name: value")
-            unknown = sorted(set(values) - {f.name for f in dataclasses.fields(cls)})
+            names = [f.name for f in dataclasses.fields(cls)]
+            unknown = sorted(str(k) for k in set(values) - set(names))
             if unknown:
-                raise ConfigError(f"{config_file}: unknown parameter(s) {', '.join(unknown)} in section "
-                                  f"{sec!r}; known: {', '.join(sorted(f.name for f in dataclasses.fields(cls)))}")
+                raise ConfigError(unknown_names(unknown, names, sec, str(config_file)))
             if sec in overrides:
                 overrides[sec].update(values)
             else:  # not used by this command: still validate the names and values
-                build_config(cls, {**read_defaults(sec), **values}, source=str(config_file))
+                build_config(cls, {**read_defaults(sec), **values}, source=str(config_file), section=sec)
     for name, value in parse_set(sets):
         if "." in name:
             sec, key = name.split(".", 1)
             if sec not in classes:
-                raise ConfigError(f"--set {name}: section {sec!r} is not used by this command "
+                raise ConfigError(f"--set {brief(name)}: section {brief(sec)} is not used by this command "
                                   f"(its sections: {', '.join(sections)})")
         else:
             owners = [s for s, c in classes.items() if key_in(c, name)]
             if not owners:
-                known = {s: sorted(f.name for f in dataclasses.fields(c)) for s, c in classes.items()}
-                raise ConfigError(f"--set {name}: unknown parameter; known: "
-                                  + "; ".join(f"{s}: {', '.join(v)}" for s, v in known.items()))
+                raise ConfigError(f"--set {brief(name)}: unknown parameter; {_suggest(name, classes)}")
             if len(owners) > 1:
-                raise ConfigError(f"--set {name}: ambiguous, in {', '.join(owners)}; "
+                raise ConfigError(f"--set {brief(name)}: ambiguous, in {', '.join(owners)}; "
                                   f"write e.g. --set {owners[0]}.{name}=...")
             sec, key = owners[0], name
         overrides[sec][key] = value
     return Settings({s: load_config(classes[s], s, None, overrides[s]) for s in sections})
+
+
+def _suggest(name: str, classes: Mapping[str, type]) -> str:
+    """Close matches of an unknown parameter name, else where the names are listed."""
+    known = {f.name: s for s, c in classes.items() for f in dataclasses.fields(c)}
+    close = difflib.get_close_matches(name, list(known), n=3, cutoff=0.7)
+    if close:
+        return "did you mean " + " or ".join(f"{known[c]}.{c}" for c in close) + "?"
+    return (f"the sections of this command are {', '.join(classes)}; each section's parameters are "
+            "listed in its file config/<section>.yaml")
 
 
 def key_in(cls: type, name: str) -> bool:

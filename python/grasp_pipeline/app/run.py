@@ -5,7 +5,10 @@ recorders (video, snapshots) and the ground-truth evaluation to the event stream
 stages and returns a :class:`~grasp_pipeline.results.RunReport`. The report is written (one
 serializer, atomically) whatever happens: ``status`` is ``complete``, ``failed`` (with
 ``error``) or ``interrupted`` (Ctrl-C / SIGTERM: the arm holds, everything done so far is
-kept). Output paths are checked before the simulation starts.
+kept; also when it comes while the objects load). Output paths are checked before the
+simulation starts, and the output folder is marked while the run writes there: a second command
+writing the same folder warns (:mod:`~grasp_pipeline.report.output_lock`). The report lists the
+loaded objects' notes and warnings (``object_notes``; the warnings also in ``warnings``).
 """
 
 from __future__ import annotations
@@ -20,11 +23,13 @@ from typing import Callable, Optional, Sequence
 from ..evaluation import scoring
 from ..evaluation.pick_evaluator import PickEvaluator
 from ..exceptions import GraspPipelineError
+from ..objects.catalog import model_notes
 from ..orchestration import (GeometricGraspSource, GraspSource, PickContext, StageEvent,
                              default_targets, pick_object)
 from ..orchestration.declutter import clear_table
 from ..orchestration.targets import rough_view_ids
 from ..orchestration.tracks import track_summary
+from ..report.output_lock import output_claim
 from ..report.serialize import check_writable, check_writable_dir, write_json
 from ..report.rerun_recorder import RerunRecorder, check_recording_path, import_rerun
 from ..report.snapshot_recorder import SnapshotRecorder
@@ -215,7 +220,8 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
                  scan: bool = True, grasp_source: Optional[GraspSource] = None,
                  prepare: Optional[Callable[[System], None]] = None,
                  objects: str = "builtin", declutter: bool = False,
-                 pick: Sequence[str] = (), rerun: str | Path | None = None) -> RunReport:
+                 pick: Sequence[str] = (), rerun: str | Path | None = None,
+                 mark_output: bool = True) -> RunReport:
     """Run the whole pipeline headless; returns (and writes to ``json_path``) the report.
 
     ``scene``: ``"reference"``, ``"random"``/``"sparse"``, ``"packed"``, ``"pile"`` (with
@@ -231,38 +237,77 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
     the perceived objects after the scan (:mod:`grasp_pipeline.language`; instead of
     ``select``); a refusal ends the run with status failed and the reason as its error;
     ``rerun``: also record the run into this ``.rrd`` file (:mod:`~grasp_pipeline.report.rerun_recorder`;
-    the Rerun SDK is an optional extra, checked before the simulation starts)."""
+    the Rerun SDK is an optional extra, checked before the simulation starts);
+    ``mark_output``: mark ``out_dir`` while writing there, so that a second writer warns (the
+    benchmarks mark their --out and not their rounds' folders)."""
     wall0 = time.perf_counter()
     settings = settings or load_settings(SECTIONS)
     out_dir = Path(out_dir)
     _check_outputs(out_dir, json_path, rerun)
-    spec = make_scene(scene, seed, settings, objects)
-    report = RunReport(scene={"name": spec.name, "seed": seed, "objects": len(spec.objects)},
-                       settings=settings.as_dict())
-    system = build_system(spec, settings)
-    recorders = None
-    try:
-        recorders = _recorders(system, out_dir, video, report, settings, rerun)
-        if prepare is not None:  # after the built-in recorders: the pick evaluation comes first
-            prepare(system)
-        _stages(system, settings, report, recorders[0], select, scan, place,
-                grasp_source or default_grasp_source(settings), declutter, pick)
-        report.status = STATUS_FAILED if report.error else STATUS_COMPLETE
-    except KeyboardInterrupt:
-        system.world.hold()
-        report.status, report.error = STATUS_INTERRUPTED, "interrupted (SIGINT/SIGTERM); the arm holds"
-        log.error("run interrupted: the arm holds; writing the report of what was done")
-    except GraspPipelineError as exc:
-        system.world.hold()
-        report.status, report.error = STATUS_FAILED, f"{type(exc).__name__}: {exc}"
-        log.error("run failed: %s", exc)
-    except Exception as exc:  # a bug: the report says so, then the traceback is shown
-        system.world.hold()
-        report.status, report.error = STATUS_FAILED, f"internal error {type(exc).__name__}: {exc}"
-        raise
-    finally:
-        _finish(system, report, recorders, wall0, json_path)
+    with output_claim(out_dir, "run", enabled=mark_output) as claim:
+        report = RunReport(scene={"name": getattr(scene, "name", str(scene)), "seed": seed, "objects": None},
+                           settings=settings.as_dict(), warnings=[claim.warning] if claim.warning else [])
+        system = _build(scene, seed, settings, objects, report, wall0, json_path)
+        if system is None:
+            return report
+        recorders = None
+        try:
+            recorders = _recorders(system, out_dir, video, report, settings, rerun)
+            if prepare is not None:  # after the built-in recorders: the pick evaluation comes first
+                prepare(system)
+            _stages(system, settings, report, recorders[0], select, scan, place,
+                    grasp_source or default_grasp_source(settings), declutter, pick)
+            report.status = STATUS_FAILED if report.error else STATUS_COMPLETE
+        except KeyboardInterrupt:
+            system.world.hold()
+            report.status, report.error = STATUS_INTERRUPTED, "interrupted (SIGINT/SIGTERM); the arm holds"
+            log.error("run interrupted: the arm holds; writing the report of what was done")
+        except GraspPipelineError as exc:
+            system.world.hold()
+            report.status, report.error = STATUS_FAILED, f"{type(exc).__name__}: {exc}"
+            log.error("run failed: %s", exc)
+        except Exception as exc:  # a bug: the report says so, then the traceback is shown
+            system.world.hold()
+            report.status, report.error = STATUS_FAILED, f"internal error {type(exc).__name__}: {exc}"
+            raise
+        finally:
+            _finish(system, report, recorders, wall0, json_path)
     return report
+
+
+def _build(scene, seed: int, settings: Settings, objects, report: RunReport, wall0: float,
+           json_path) -> Optional[System]:
+    """The scene (its object set loaded; the objects' notes go to the report) and the system
+    built on it. When Ctrl-C / SIGTERM comes meanwhile, None (the report, written, says
+    interrupted); a bad scene or object set raises, the report written as failed."""
+    try:
+        spec = make_scene(scene, seed, settings, objects)
+        _note_objects(spec, report)
+        return build_system(spec, settings)
+    except KeyboardInterrupt:
+        report.status = STATUS_INTERRUPTED
+        report.error = "interrupted (SIGINT/SIGTERM) while the scene was built (objects loading)"
+        log.error("run interrupted while the scene was built; writing the report")
+        _write_early(report, wall0, json_path)
+        return None
+    except GraspPipelineError as exc:
+        report.status, report.error = STATUS_FAILED, f"{type(exc).__name__}: {exc}"
+        _write_early(report, wall0, json_path)
+        raise
+
+
+def _note_objects(spec, report: RunReport) -> None:
+    report.scene.update(name=spec.name, objects=len(spec.objects))
+    report.object_notes = model_notes(o.mesh for o in spec.objects if o.mesh is not None)
+    report.warnings += [f"object {name}: {w}" for name, n in report.object_notes.items()
+                        for w in n["warnings"]]
+
+
+def _write_early(report: RunReport, wall0: float, json_path) -> None:
+    """The report of a run that ended before its world was built."""
+    report.timings["wall_s"] = time.perf_counter() - wall0
+    if json_path is not None:
+        write_json(json_path, report)
 
 
 def default_grasp_source(settings: Settings) -> GraspSource:

@@ -9,14 +9,13 @@ from __future__ import annotations
 
 import logging
 import math
-import signal
 import sys
-from contextlib import contextmanager
 from pathlib import Path
 
 from ..exceptions import InputError
 from ..report.serialize import to_jsonable
 from ..settings import load_settings
+from ..signals import interrupts_raise
 
 log = logging.getLogger("grasp_pipeline.run")
 
@@ -99,21 +98,10 @@ def _is_sim_figure(key: str) -> bool:
     return key.endswith("_sim_s") or key.endswith("_real_time_factor")
 
 
-@contextmanager
 def sigterm_as_interrupt():
-    """Within the block, SIGTERM raises KeyboardInterrupt like Ctrl-C (main thread only)."""
-    def handler(signum, frame):
-        raise KeyboardInterrupt(f"signal {signum}")
-
-    try:
-        previous = signal.signal(signal.SIGTERM, handler)
-    except ValueError:  # not the main thread
-        yield
-        return
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGTERM, previous)
+    """Within the block, SIGTERM raises KeyboardInterrupt like Ctrl-C (main thread only); both
+    are counted (:mod:`grasp_pipeline.signals`: a signal a library swallows is raised again)."""
+    return interrupts_raise()
 
 
 def run_command(args, scene: str | None = None) -> int:

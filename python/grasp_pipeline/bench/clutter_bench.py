@@ -44,6 +44,7 @@ from typing import Optional
 
 from ..app.run_command import sigterm_as_interrupt
 from ..exceptions import InputError
+from ..report.output_lock import output_claim
 from ..report.serialize import check_writable, check_writable_dir, write_json
 from .clutter_round import clutter_settings, run_round
 from .grasp_bench import failures_by_stage, scene_seed, stats
@@ -192,18 +193,38 @@ def _tasks(protocol: str, objects: str, rounds: int, seeds: list[int], out: Path
     return tasks
 
 
-def _check_inputs(protocol: str, objects: str, rounds: int, seeds: list[int], workers: int,
-                  overrides: tuple) -> None:
+def _check_inputs(protocol: str, rounds: int, seeds: list[int], workers: int, overrides: tuple) -> None:
     if protocol not in PROTOCOLS:
         raise InputError(f"protocol must be one of {PROTOCOLS}, got {protocol!r}")
     if rounds < 1 or workers < 1 or not seeds:
         raise InputError("rounds and workers must be >= 1 and at least one seed given")
-    settings = clutter_settings(overrides)  # bad overrides fail here, before any round starts
-    if protocol != "sparse":
-        from ..objects.catalog import object_set
+    clutter_settings(overrides)  # bad overrides fail here, before any round starts
 
-        object_set(objects)  # a bad object folder fails here (MeshError naming the file)
-    del settings
+
+def _check_objects(protocol: str, objects: str) -> dict:
+    """Load the object set once here (a bad folder fails before any round: MeshError naming the
+    file); its models' notes and warnings (logged) for the JSON."""
+    if protocol == "sparse":
+        return {}
+    from ..objects.catalog import model_notes, object_set
+
+    return model_notes(object_set(objects))
+
+
+def run_status(rows: list[dict], interrupted: bool) -> tuple[str, str]:
+    """(status, note): ``interrupted``; ``failed`` when no round ran to its end (each raised,
+    timed out or its process died); ``partial`` when some did not; else ``complete``."""
+    broken = [r for r in rows if r.get("error_category")]
+    counts: dict = {}
+    for r in broken:
+        counts[r["error_category"]] = counts.get(r["error_category"], 0) + 1
+    why = ", ".join(f"{k} x{v}" for k, v in sorted(counts.items()))
+    note = f"{len(broken)} of {len(rows)} rounds did not run to their end ({why})" if broken else ""
+    if interrupted:
+        return "interrupted", note
+    if rows and len(broken) == len(rows):
+        return "failed", note
+    return ("partial" if broken else "complete"), note
 
 
 def run_clutter_benchmark(protocol: str = "packed", objects: str = "builtin", rounds: int = 20,
@@ -214,9 +235,12 @@ def run_clutter_benchmark(protocol: str = "packed", objects: str = "builtin", ro
                           rerun_dir: str | Path | None = None) -> dict:
     """Run the benchmark; write the JSON (``json_path``), ``OUT/summary.md`` and plots.
     ``backend``: ``"local"`` (spawned processes) or ``"ray"`` (``address``: a cluster's);
-    ``rerun_dir``: also one Rerun recording per round there (``<round folder name>.rrd``)."""
+    ``rerun_dir``: also one Rerun recording per round there (``<round folder name>.rrd``).
+    ``status``: complete, partial, failed (no round ran to its end) or interrupted (Ctrl-C /
+    SIGTERM at any phase — loading the objects, simulating, writing: the JSON says so, then
+    KeyboardInterrupt is raised)."""
     seeds = [int(s) for s in seeds]
-    _check_inputs(protocol, objects, rounds, seeds, workers, overrides)
+    _check_inputs(protocol, rounds, seeds, workers, overrides)
     out = check_writable_dir(Path(out_dir), "output folder (--out)")
     if json_path is not None:
         check_writable(json_path, "benchmark JSON (--json)")
@@ -227,33 +251,63 @@ def run_clutter_benchmark(protocol: str = "packed", objects: str = "builtin", ro
         rerun_dir = check_writable_dir(Path(rerun_dir), "Rerun recordings folder (--rerun)")
     tasks = _tasks(protocol, objects, rounds, seeds, out, overrides, rerun_dir)
     t0 = time.perf_counter()
-    with sigterm_as_interrupt():
-        rows, interrupted = run_jobs(tasks, ROUND_JOBS, min(workers, len(tasks)), round_timeout_s,
-                                     progress, backend, address)
-    result = aggregate(rows, protocol, str(objects), seeds, min(workers, len(tasks)),
-                       time.perf_counter() - t0)
-    result["grasp_bound"]["config"] = dataclasses.asdict(clutter_settings(overrides).grasp_bound)
-    result.update(status="interrupted" if interrupted else "complete", rounds_requested=len(tasks),
-                  cpu_count=os.cpu_count(), mujoco_gl=worker_env()["MUJOCO_GL"], out_dir=str(out),
-                  backend=backend)
+    rows, interrupted, notes, phase = [], False, {}, "loading the objects"
+    with output_claim(out, "bench clutter") as claim, sigterm_as_interrupt():
+        try:
+            notes = _check_objects(protocol, objects)
+            phase = "simulating"
+            rows, interrupted = run_jobs(tasks, ROUND_JOBS, min(workers, len(tasks)), round_timeout_s,
+                                         progress, backend, address)
+        except KeyboardInterrupt:
+            interrupted = True
+        result = aggregate(rows, protocol, str(objects), seeds, min(workers, len(tasks)),
+                           time.perf_counter() - t0)
+        result["grasp_bound"]["config"] = dataclasses.asdict(clutter_settings(overrides).grasp_bound)
+        status, note = run_status(rows, interrupted)
+        result.update(status=status, status_note=note, rounds_requested=len(tasks),
+                      cpu_count=os.cpu_count(), mujoco_gl=worker_env()["MUJOCO_GL"], out_dir=str(out),
+                      backend=backend, object_notes=notes,
+                      warnings=[claim.warning] if claim.warning else [])
+        if interrupted:
+            result["interrupted_while"] = phase
+        _write_results(result, out, json_path)
+    if result["status"] == "interrupted":
+        raise KeyboardInterrupt(f"bench clutter interrupted while {result['interrupted_while']} after "
+                                f"{len(rows)} of {len(tasks)} rounds (written to {json_path})")
+    return result
+
+
+def _write_results(result: dict, out: Path, json_path) -> None:
+    """The JSON (written first: a signal while the plots are drawn cannot lose it), the plots,
+    ``summary.md``, then the JSON again with them. Ctrl-C / SIGTERM while writing: the JSON says
+    ``interrupted`` while writing (the plots or summary may be missing)."""
     from .clutter_plots import write_plots, write_summary
 
-    result["plots"] = {k: str(Path(v).relative_to(out)) for k, v in write_plots(result, out).items()}
-    result["summary"] = str(write_summary(result, out / "summary.md", json_path=json_path))
-    result["round_rows"] = result.pop("round_rows")  # (the long part last)
-    if json_path is not None:
-        write_json(json_path, result)
-    if interrupted:
-        raise KeyboardInterrupt(f"bench clutter interrupted after {len(rows)} of {len(tasks)} rounds "
-                                f"(written to {json_path})")
-    return result
+    rows = result.pop("round_rows")
+    result["round_rows"] = rows  # (the long part last)
+    try:
+        if json_path is not None:
+            write_json(json_path, result)
+        result["plots"] = {k: str(Path(v).relative_to(out)) for k, v in write_plots(result, out).items()}
+        result["summary"] = str(write_summary(result, out / "summary.md", json_path=json_path))
+        result["round_rows"] = result.pop("round_rows")
+        if json_path is not None:
+            write_json(json_path, result)
+    except KeyboardInterrupt:
+        result.update(status="interrupted", interrupted_while="writing the plots and summary")
+        result.setdefault("summary", None)
+        if json_path is not None:
+            write_json(json_path, result)
+        log.error("interrupted while writing the plots and summary; %s says so", json_path)
 
 
 def headline(result: dict) -> str:
     """A few lines for the terminal."""
     pct = lambda v: "n/a" if v is None else f"{100 * v:.1f} %"  # noqa: E731
     seg = result["segmentation"]
-    lines = [
+    lines = [f"STATUS {result['status'].upper()}: {result.get('status_note') or 'interrupted'}"
+             ] if result.get("status", "complete") != "complete" else []
+    lines += [
         f"{result['protocol']} / {result['objects']}: {result['rounds']} rounds, "
         f"{result['objects_placed']} objects, {result['attempts']} attempts, {result['successes']} picked",
         f"GSR {pct(result['gsr'])} (mean {pct(result['mean']['gsr'])} +- {pct(result['std']['gsr'])} over "
@@ -272,4 +326,9 @@ def headline(result: dict) -> str:
                      f"{pct(b['dr_top_down'])} / {pct(b['dr_tilted'])} / {pct(b['dr_any_side'])}")
     for stage, f in result["failures_by_stage"].items():
         lines.append(f"  failed at {stage}: {f['count']} ({', '.join(f'{k} x{v}' for k, v in f['reasons'].items())})")
+    warned = [name for name, n in (result.get("object_notes") or {}).items() if n["warnings"]]
+    if warned:
+        lines.append(f"object warnings ({len(warned)} models): {', '.join(warned[:8])}"
+                     + (" ..." if len(warned) > 8 else "") + " (see object_notes in the JSON)")
+    lines += [f"warning: {w}" for w in result.get("warnings") or []]
     return "\n".join(lines)

@@ -81,7 +81,10 @@ def write_plots(result: dict, out_dir: str | Path) -> dict[str, Path]:
 def _md_head(r: dict, json_path) -> list[str]:
     L = [f"# Clutter benchmark — {r['protocol']}, objects {r['objects']}", "",
          f"{r['rounds']} rounds (seeds {', '.join(str(s) for s in r['seed_list'])}), {r['workers']} worker(s), "
-         f"status {r.get('status', 'complete')}. JSON: `{json_path}`.", "",
+         f"status {r.get('status', 'complete')}. JSON: `{json_path}`.", ""]
+    if r.get("status_note"):
+        L += [f"**{r['status_note']}**", ""]
+    L += [
          "A round: build the scene, rough view, active scan, then one pick into the tray at a time, "
          "looking again after each attempt; it ends when the table is clear, nothing graspable is "
          "proposed, or after 2 failed attempts in a row. GSR = successful picks / attempts (every "

@@ -182,7 +182,7 @@ def run_round(task: dict) -> dict:
         obs = _Observers(out, settings.scene_filter.band, bound_config)
         report = run_pipeline(scene=spec, seed=task["seed"], out_dir=out, json_path=out / "report.json",
                               settings=settings, video=False, declutter=True, prepare=obs,
-                              rerun=task.get("recording")).to_dict()
+                              rerun=task.get("recording"), mark_output=False).to_dict()
     except Exception as exc:  # any failure of the round is a result, not a crash
         error = f"{type(exc).__name__}: {exc}"
         log.error("round %d (seed %d) raised %s\n%s", task["index"], task["seed"], error,

@@ -37,6 +37,7 @@ from pathlib import Path
 from typing import Any, Iterable, Optional
 
 from ..app.run_command import sigterm_as_interrupt
+from ..report.output_lock import output_claim
 from ..report.serialize import check_writable, check_writable_dir, write_json
 from ..results import SceneRecord, SceneScanSummary
 from .scheduler import JobSpec, run_jobs, worker_env
@@ -276,7 +277,7 @@ def run_scene(index: int, seed: int, out_dir: str | Path, overrides: tuple = (No
 
         out = Path(out_dir)
         report = run_pipeline(scene="random", seed=seed, out_dir=out, json_path=out / "report.json",
-                              video=False, settings=scene_settings(overrides))
+                              video=False, settings=scene_settings(overrides), mark_output=False)
         return scene_record(index, seed, objects, report.to_dict())
     except Exception as exc:  # any failure of the scene is a result, not a crash
         text = f"{type(exc).__name__}: {exc}"
@@ -562,55 +563,101 @@ def run_grasp_benchmark(scenes: int, seed: int = 0, workers: int = 1, json_path:
 
     ``overrides``: ``(config_file, [name=value, ...])`` applied to every scene's settings;
     ``backend``: ``"local"`` (spawned processes) or ``"ray"`` (``address``: a cluster's, else a
-    local Ray instance with ``workers`` CPUs)."""
+    local Ray instance with ``workers`` CPUs). ``status``: complete, partial, failed (no scene
+    ran to its end) or interrupted (Ctrl-C / SIGTERM at any phase — generating the scenes,
+    simulating, writing: the JSON says so, then KeyboardInterrupt is raised)."""
     if scenes < 1:
         raise ValueError(f"scenes must be >= 1, got {scenes}")
     if workers < 1:
         raise ValueError(f"workers must be >= 1, got {workers}")
     out = check_writable_dir(Path(out_dir), "output folder (--out)")
-    tasks = [(i, scene_seed(seed, i), str(out / "scenes" / f"scene_{i:03d}_seed_{scene_seed(seed, i)}"))
-             for i in range(scenes)]
-    # Longest first (the time of a scene grows with its objects): the last scenes to finish are
-    # short ones, so W workers stay busy to the end. Results are sorted by index afterwards.
     scene_settings(overrides)  # bad overrides fail here, before any scene starts
     if json_path is not None:
         check_writable(json_path, "benchmark JSON (--json)")
-    tasks.sort(key=lambda t: (-_object_count(t[1], overrides), t[0]))
     workers_used = min(workers, scenes)
     if workers_used > (os.cpu_count() or 1):
         log.warning("%d workers on %s cores: scenes will compete for CPU", workers_used, os.cpu_count())
     t0 = time.perf_counter()
-    with sigterm_as_interrupt():
-        records, interrupted = run_jobs([(*t, overrides) for t in tasks], SCENE_JOBS, workers_used,
-                                        scene_timeout_s, progress, backend, address)
-    wall = time.perf_counter() - t0
-    env = worker_env()
-    result = aggregate(records, seed, workers_used, wall,
-                       extra={"workers_requested": int(workers), "cpu_count": os.cpu_count(),
-                              "backend": backend,
-                              "mujoco_gl": env["MUJOCO_GL"],
-                              "status": "interrupted" if interrupted else "complete",
-                              "scenes_finished": len(records)})
+    records, interrupted, phase = [], False, "generating the scenes"
+    with output_claim(out, "bench grasp") as claim, sigterm_as_interrupt():
+        try:
+            tasks = _scene_tasks(scenes, seed, out, overrides)
+            phase = "simulating"
+            records, interrupted = run_jobs([(*t, overrides) for t in tasks], SCENE_JOBS, workers_used,
+                                            scene_timeout_s, progress, backend, address)
+        except KeyboardInterrupt:
+            interrupted = True
+        status, note = _status(records, interrupted)
+        result = aggregate(records, seed, workers_used, time.perf_counter() - t0,
+                           extra={"workers_requested": int(workers), "cpu_count": os.cpu_count(),
+                                  "backend": backend, "mujoco_gl": worker_env()["MUJOCO_GL"],
+                                  "status": status, "status_note": note, "scenes_finished": len(records),
+                                  "warnings": [claim.warning] if claim.warning else []})
+        if interrupted:
+            result["interrupted_while"] = phase
+        _write_results(result, out, json_path)
+    if result["status"] == "interrupted":
+        raise KeyboardInterrupt(f"bench grasp interrupted while {result['interrupted_while']} after "
+                                f"{len(records)} of {scenes} scenes (written to {json_path})")
+    return result
 
+
+def _scene_tasks(scenes: int, seed: int, out: Path, overrides: tuple) -> list[tuple]:
+    """(index, scene seed, folder) per scene, longest first: the time of a scene grows with its
+    objects, so the last scenes to finish are short ones and W workers stay busy to the end
+    (results are sorted by index afterwards)."""
+    tasks = [(i, scene_seed(seed, i), str(out / "scenes" / f"scene_{i:03d}_seed_{scene_seed(seed, i)}"))
+             for i in range(scenes)]
+    tasks.sort(key=lambda t: (-_object_count(t[1], overrides), t[0]))
+    return tasks
+
+
+def _status(records: list[dict], interrupted: bool) -> tuple[str, str]:
+    """(status, note): ``interrupted``; ``failed`` when every scene raised, timed out or lost its
+    process; ``partial`` when some did; else ``complete``."""
+    broken = [r for r in records if r.get("error")]
+    counts: dict = {}
+    for r in broken:
+        cat = exception_category(r["error"])
+        counts[cat] = counts.get(cat, 0) + 1
+    why = ", ".join(f"{k} x{v}" for k, v in sorted(counts.items()))
+    note = f"{len(broken)} of {len(records)} scenes did not run to their end ({why})" if broken else ""
+    if interrupted:
+        return "interrupted", note
+    if records and len(broken) == len(records):
+        return "failed", note
+    return ("partial" if broken else "complete"), note
+
+
+def _write_results(result: dict, out: Path, json_path) -> None:
+    """The JSON (first: a signal while the plots are drawn cannot lose it), the plots,
+    ``summary.md``, then the JSON again with them; Ctrl-C / SIGTERM while writing: the JSON
+    says ``interrupted`` while writing (the plots or summary may be missing)."""
     from .grasp_plots import write_plots, write_summary
 
-    result["plots"] = {k: str(Path(v).relative_to(out)) for k, v in write_plots(result, out).items()}
-    summary = write_summary(result, out / "summary.md", json_path=json_path)
-    result["summary"] = str(summary)
-    result["scene_rows"] = result.pop("scene_rows")
-    if json_path is not None:
-        write_json(json_path, result)
-    if interrupted:
-        raise KeyboardInterrupt(f"bench grasp interrupted after {len(records)} of {scenes} scenes "
-                                f"(written to {json_path})")
-    return result
+    try:
+        if json_path is not None:
+            write_json(json_path, result)
+        result["plots"] = {k: str(Path(v).relative_to(out)) for k, v in write_plots(result, out).items()}
+        result["summary"] = str(write_summary(result, out / "summary.md", json_path=json_path))
+        result["scene_rows"] = result.pop("scene_rows")
+        if json_path is not None:
+            write_json(json_path, result)
+    except KeyboardInterrupt:
+        result.update(status="interrupted", interrupted_while="writing the plots and summary")
+        result.setdefault("summary", None)
+        if json_path is not None:
+            write_json(json_path, result)
+        log.error("interrupted while writing the plots and summary; %s says so", json_path)
 
 
 def headline(result: dict) -> str:
     """A few lines for the terminal."""
     acc = result["accuracy"]
     f = lambda s: "n/a" if s["median"] is None else f"{s['median']:.2f}"  # noqa: E731
-    lines = [
+    lines = [f"STATUS {result['status'].upper()}: {result.get('status_note') or 'interrupted'}"
+             ] if result.get("status", "complete") != "complete" else []
+    lines += [
         f"scenes {result['scenes']} ({result['scenes_failed']} raised), objects {result['objects']}, "
         f"picked {result['picked']} -> success {100 * (result['success_rate'] or 0):.1f} %",
         f"scan: {100 * (result['scan_success_rate'] or 0):.1f} % of objects NADIR",
@@ -625,4 +672,5 @@ def headline(result: dict) -> str:
     ]
     for stage, f_ in result["failures_by_stage"].items():
         lines.append(f"  failed at {stage}: {f_['count']} ({', '.join(f'{k} x{v}' for k, v in f_['reasons'].items())})")
+    lines += [f"warning: {w}" for w in result.get("warnings") or []]
     return "\n".join(lines)

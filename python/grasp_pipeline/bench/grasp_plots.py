@@ -277,7 +277,10 @@ def _md_intro(r: dict, json_path: Optional[str | Path]) -> list[str]:
     L += [f"Every scene: rough view, active scan, pick every object into the tray "
           f"(`run_pipeline(scene=\"random\", seed=<scene seed>)`). Ground truth is used for scoring only. "
           f"{r['workers']} worker process(es), MuJoCo GL `{r.get('mujoco_gl', '?')}`."
-          + (f" Full figures: `{json_path}`." if json_path else ""), ""]
+          + (f" Full figures: `{json_path}`." if json_path else "")
+          + f" Status {r.get('status', 'complete')}.", ""]
+    if r.get("status_note"):
+        L += [f"**{r['status_note']}**", ""]
     return L
 
 

@@ -11,14 +11,17 @@ choice, see :mod:`grasp_pipeline.sim.gl_backend`) and ``PYTHONPATH``, and are li
 thread each (``OMP_NUM_THREADS=1`` and the BLAS equivalents), so ``W`` workers use ``W``
 cores. A job whose function raises is the function's business (it should return a failed
 record); a child that dies (signal, segfault) or exceeds ``timeout_s`` is recorded through
-``failed_fn`` and the benchmark goes on. Ctrl-C / SIGTERM stops the running jobs and returns
-the records finished so far.
+``failed_fn`` and the benchmark goes on. Ctrl-C / SIGTERM stops the running jobs — SIGINT first
+(unless Ctrl-C reached them already), so each run holds its arm and writes its report saying
+interrupted, then SIGKILL for what still runs after :data:`STOP_GRACE_S` — and returns the
+records finished so far.
 """
 
 from __future__ import annotations
 
 import logging
 import os
+import signal
 import sys
 import time
 from contextlib import contextmanager
@@ -37,6 +40,13 @@ SINGLE_THREAD_ENV = {
     "BLIS_NUM_THREADS": "1",
     "LP_NUM_THREADS": "1",  # Mesa llvmpipe (software EGL/OSMesa rendering) render threads
 }
+
+
+#: Seconds the running jobs get to end cleanly on Ctrl-C / SIGTERM (each run writes its report
+#: saying interrupted) before they are killed ...
+STOP_GRACE_S = 5.0
+#: ... after this wait for jobs that got the signal themselves (Ctrl-C reaches the whole group).
+OWN_SIGNAL_WAIT_S = 1.0
 
 
 @dataclass(frozen=True)
@@ -175,11 +185,36 @@ class _Scheduler:
                 log.error("job %d: %s", task[0], err)
                 self.finish(sentinel, self.spec.failed_fn(task, err, now - t0))
 
-    def kill_all(self) -> None:
+    def stop_all(self, grace_s: float = STOP_GRACE_S) -> None:
+        """Stop the running jobs cleanly, then kill what still runs: jobs that got the user's
+        Ctrl-C themselves (the whole process group does) get a moment to end on their own, the
+        others SIGINT (a run holds the arm and writes its report saying interrupted) and
+        ``grace_s`` to end."""
+        waited = self._join_all(min(OWN_SIGNAL_WAIT_S, grace_s))
+        for proc, _conn, _task, _t0 in self.running.values():
+            if waited and proc.is_alive() and proc.pid is not None:
+                try:
+                    os.kill(proc.pid, signal.SIGINT)
+                except OSError:
+                    pass
+        if waited:
+            self._join_all(grace_s)
         for proc, conn, _task, _t0 in self.running.values():
-            proc.kill()
-            proc.join(timeout=10)
+            if proc.is_alive():
+                proc.kill()
+                proc.join(timeout=10)
             conn.close()
+
+    def _join_all(self, timeout_s: float) -> bool:
+        """Wait up to ``timeout_s`` for the jobs to exit; False when a second Ctrl-C / SIGTERM
+        cut the wait short (then nothing more is waited for)."""
+        deadline = time.perf_counter() + timeout_s
+        try:
+            for proc, _conn, _task, _t0 in self.running.values():
+                proc.join(timeout=max(0.0, deadline - time.perf_counter()))
+        except KeyboardInterrupt:
+            return False
+        return True
 
 
 def run_jobs(tasks: list[tuple], spec: JobSpec, workers: int, timeout_s: float,
@@ -217,7 +252,7 @@ def run_jobs(tasks: list[tuple], spec: JobSpec, workers: int, timeout_s: float,
         log.error("interrupted: stopping the running jobs; writing the %d finished ones",
                   len(sched.results))
     finally:
-        sched.kill_all()
+        sched.stop_all(STOP_GRACE_S if interrupted else 0.0)
         bar.close()
     results = sorted(sched.results, key=lambda r: r["index"])
     return results, interrupted

@@ -4,8 +4,9 @@ reads it)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar, Mapping
 
-from ..exceptions import ConfigError
+from ..config_ranges import OPENING_M, Range, check_ranges, length_m
 
 
 @dataclass(frozen=True)
@@ -19,12 +20,12 @@ class GraspBoundConfig:
     contact_band_m: float = 0.002
     match_distance_m: float = 0.03
 
+    RANGES: ClassVar[Mapping[str, Range]] = {
+        "max_width_m": Range(0.0, OPENING_M.hi, lo_open=True, unit=" m"),
+        "tilted_limit_deg": Range(0.0, 90.0, lo_open=True, hi_open=True, unit=" deg"),
+        "min_contact_height_m": length_m(zero=True), "contact_band_m": length_m(zero=True),
+        "match_distance_m": length_m(zero=True),
+    }
+
     def validate(self) -> None:
-        if not 0 < self.max_width_m <= 1.0:
-            raise ConfigError(f"grasp_bound.max_width_m = {self.max_width_m}: expected 0 < value <= 1 m")
-        if not 0 < self.tilted_limit_deg < 90:
-            raise ConfigError(f"grasp_bound.tilted_limit_deg = {self.tilted_limit_deg}: expected 0 < value < 90")
-        for name in ("min_contact_height_m", "contact_band_m", "match_distance_m"):
-            v = getattr(self, name)
-            if not 0 <= v <= 1.0:
-                raise ConfigError(f"grasp_bound.{name} = {v}: expected 0 <= value <= 1 m")
+        check_ranges(self, "grasp_bound")

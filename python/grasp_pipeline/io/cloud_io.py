@@ -20,6 +20,9 @@ many values, or fewer/more lines than the header declares is an InputError namin
 number and the field, e.g. ``cloud.pcd: PCD ascii data, line 12: field 'y' (column 2):
 'abc' is not a number``.
 
+Before any reader runs, the header's point count is checked against a limit and against the
+file's size (:mod:`.cloud_headers`): a header claiming 10^9 points is refused at once.
+
 Finite but absurd coordinates (e.g. 3.4e38) are loaded as they are; the perception core
 drops points beyond ``max_abs_coordinate_m`` (scene filter config) like NaN rows.
 
@@ -40,6 +43,7 @@ from pathlib import Path
 import numpy as np
 
 from ..exceptions import InputError
+from .cloud_headers import check_cloud_header
 
 SUPPORTED_EXTENSIONS = (".pcd", ".ply", ".npy")
 PCD_ENCODINGS = ("binary_compressed", "binary", "ascii")
@@ -122,9 +126,12 @@ def _load_npy(path: str) -> Cloud:
 
 
 def load_cloud(path: str | os.PathLike) -> Cloud:
-    """Read a point cloud, dispatching on the extension (``.pcd``, ``.ply``, ``.npy``)."""
+    """Read a point cloud, dispatching on the extension (``.pcd``, ``.ply``, ``.npy``); the
+    header's point count is checked first (:mod:`.cloud_headers`)."""
     path = os.fspath(path)
     ext = Path(path).suffix.lower()
+    if ext in SUPPORTED_EXTENSIONS:
+        check_cloud_header(path, ext)
     if ext == ".npy":
         return _load_npy(path)
     if ext == ".pcd":

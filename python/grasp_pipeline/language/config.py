@@ -3,7 +3,10 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar, Mapping
 
+from ..config_ranges import (FRACTION, POSITIVE_FRACTION, Range, check_ranges, count, length_m,
+                             require, step_m)
 from ..exceptions import ConfigError
 
 #: The shape classes the resolver names (``any`` is the word "object": every shape).
@@ -20,7 +23,7 @@ def synonym_map(pairs: tuple[str, ...], field: str) -> dict[str, str]:
     for item in pairs:
         word, sep, meaning = item.partition("=")
         if not sep or not word.strip() or not meaning.strip():
-            raise ConfigError(f"LanguageConfig.{field}: {item!r} is not word=meaning")
+            raise ConfigError(f"language.{field}: {item!r} is not word=meaning")
         out[word.strip().lower()] = meaning.strip().lower()
     return out
 
@@ -65,31 +68,49 @@ class LanguageConfig:
     superlative_tie_volume_ratio: float = 0.1
     filler_words: tuple[str, ...] = ("the", "a", "an")
 
+    RANGES: ClassVar[Mapping[str, Range]] = {
+        "colour_rgb": FRACTION,
+        "colour_chroma_scale": POSITIVE_FRACTION,
+        "colour_brightness_weight": Range(0.0, 10.0, lo_open=True),
+        "colour_clip_value": POSITIVE_FRACTION,
+        "colour_bright_quantile": Range(0.0, 1.0, hi_open=True),
+        "colour_samples_per_frame": count(1, 100_000),
+        "shape_cell_m": step_m(),
+        "shape_top_band_m": length_m(0.1),
+        "shape_rect_fill_min": FRACTION,
+        "shape_round_fill_max": FRACTION,
+        "shape_round_aspect_min": FRACTION,
+        "shape_round_corner_max": Range(1.0, 10.0),
+        "shape_flat_top_min": FRACTION,
+        "shape_hollow_drop_min": FRACTION,
+        "shape_mug_height_ratio_min": Range(0.0, 100.0),
+        "shape_bottle_top_max": FRACTION,
+        "shape_bottle_height_ratio_min": Range(0.0, 100.0),
+        "shape_max_points": count(1, 10_000_000),
+        "shape_voxel_m": step_m(),
+        "size_small_ratio_max": Range(0.0, 1.0, lo_open=True, hi_open=True),
+        "size_large_ratio_min": Range(1.0, 100.0, lo_open=True),
+        "superlative_tie_m": length_m(0.1),
+        "superlative_tie_volume_ratio": FRACTION,
+    }
+
     def validate(self) -> None:
+        check_ranges(self, "language")
         if len(self.colour_names) != len(self.colour_rgb) or not self.colour_names:
-            raise ConfigError("LanguageConfig.colour_names and colour_rgb must be non-empty lists "
+            raise ConfigError("language.colour_names and colour_rgb must be non-empty lists "
                               "of the same length (one RGB triple per name)")
-        if any(len(c) != 3 or not all(0.0 <= v <= 1.0 for v in c) for c in self.colour_rgb):
-            raise ConfigError("LanguageConfig.colour_rgb: expected [r, g, b] triples in [0, 1]")
-        for name in ("shape_cell_m", "shape_top_band_m", "shape_voxel_m", "superlative_tie_m",
-                     "colour_chroma_scale", "colour_brightness_weight",
-                     "colour_clip_value", "shape_max_points", "colour_samples_per_frame"):
-            if not getattr(self, name) > 0:
-                raise ConfigError(f"LanguageConfig.{name} = {getattr(self, name)}: expected > 0")
-        if not 0.0 <= self.colour_bright_quantile < 1.0:
-            raise ConfigError("LanguageConfig.colour_bright_quantile: expected [0, 1)")
-        if not 0 < self.size_small_ratio_max < 1 < self.size_large_ratio_min:
-            raise ConfigError("LanguageConfig: expected 0 < size_small_ratio_max < 1 < size_large_ratio_min")
+        require(all(len(c) == 3 for c in self.colour_rgb), "language", "colour_rgb",
+                self.colour_rgb, "[r, g, b] triples in [0, 1]")
         meanings = set(self.shape_map().values()) - set(SHAPES) - {"any"}
         if meanings:
-            raise ConfigError(f"LanguageConfig.shape_synonyms: unknown shape(s) {sorted(meanings)}; "
+            raise ConfigError(f"language.shape_synonyms: unknown shape(s) {sorted(meanings)}; "
                               f"known: {', '.join(SHAPES)}, any")
         bad = set(self.colour_map().values()) - set(self.colour_names)
         if bad:
-            raise ConfigError(f"LanguageConfig.colour_synonyms: {sorted(bad)} not in colour_names")
+            raise ConfigError(f"language.colour_synonyms: {sorted(bad)} not in colour_names")
         bad = set(self.size_map().values()) - set(SIZES) - set(SUPERLATIVES)
         if bad:
-            raise ConfigError(f"LanguageConfig.size_synonyms: unknown size word(s) {sorted(bad)}; "
+            raise ConfigError(f"language.size_synonyms: unknown size word(s) {sorted(bad)}; "
                               f"known: {', '.join(SIZES + SUPERLATIVES)}")
 
     def colour_map(self) -> dict[str, str]:

@@ -9,13 +9,17 @@ time and attempt count are *upper bounds*: planning stops at the first exact sol
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, ClassVar, Mapping
 
 from ..config import load_config
+from ..config_ranges import (CELL_COORDINATE_M, POSITIVE_FRACTION, Range, angle_rad,
+                             check_ranges, count, duration_s, length_m, step_m)
 from ..exceptions import ConfigError
+
+#: A fraction that may exceed 1 to switch a rule off (``> 1: boxes only``).
+_FRACTION_OR_OFF = Range(0.0, 2.0)
 
 #: OMPL geometric planners this layer knows how to construct by name.
 KNOWN_PLANNERS = ("RRTConnect", "RRT", "RRTstar", "PRM", "KPIECE1", "BKPIECE1", "LBKPIECE1")
@@ -76,44 +80,56 @@ class MotionConfig:
     settle_timeout_s: float = 3.0
     stop_on_contact: bool = True
 
+    RANGES: ClassVar[Mapping[str, Range]] = {
+        "planning_time_s": duration_s(600.0),
+        "num_planning_attempts": count(1, 1000),
+        "planner_range_rad": angle_rad(20.0, zero=True),
+        "planner_check_step_rad": Range(0.001, 0.5, unit=" rad"),
+        "final_check_step_rad": Range(0.001, 0.5, unit=" rad"),
+        "simplify_max_time_s": duration_s(60.0),
+        "random_seed": count(-1, 2**32 - 1, " (-1: not seeded)"),
+        "voxel_size_m": Range(0.01, 0.05, unit=" m"),
+        "collision_margin_m": length_m(0.1, zero=True),
+        "self_collision_margin_m": length_m(0.05, zero=True),
+        "sphere_cell_m": Range(0.005, 0.2, unit=" m"),
+        "workspace_min_m": CELL_COORDINATE_M,
+        "workspace_max_m": CELL_COORDINATE_M,
+        "max_environment_points": count(1, 100_000_000),
+        "max_grid_voxels": count(1, 100_000_000),
+        "self_filter_padding_m": length_m(0.2, zero=True),
+        "target_ignore_padding_m": length_m(0.2, zero=True),
+        "object_points_min_seen_fraction": _FRACTION_OR_OFF,
+        "object_points_seen_through_fraction": _FRACTION_OR_OFF,
+        "object_points_duplicate_overlap": _FRACTION_OR_OFF,
+        "floor_z_m": CELL_COORDINATE_M,
+        "cartesian_step_m": step_m(),
+        "cartesian_step_rad": Range(0.001, 0.5, unit=" rad"),
+        "cartesian_max_joint_step_rad": angle_rad(1.0),
+        "ik_q7_samples": count(1, 3600),
+        "ik_refine_iterations": count(1, 1000),
+        "ik_tolerance_m": length_m(1e-3, zero=True),
+        "ik_tolerance_rad": angle_rad(1e-2, zero=True),
+        "ik_accept_position_m": length_m(0.01),
+        "ik_accept_orientation_rad": angle_rad(0.1),
+        "ik_duplicate_tol_rad": angle_rad(0.5),
+        "velocity_scale": POSITIVE_FRACTION,
+        "acceleration_scale": POSITIVE_FRACTION,
+        "control_rate_hz": Range(1.0, 5000.0, unit=" Hz"),
+        "toppra_gridpoints": count(2, 10_000),
+        "timing_waypoint_step_rad": Range(0.001, 1.0, unit=" rad"),
+        "timing_limit_tolerance": Range(0.0, 0.5),
+        "tracking_error_limit_rad": angle_rad(1.0),
+        "settle_position_tol_rad": angle_rad(0.5),
+        "settle_velocity_tol_rad_s": Range(0.0, 1.0, lo_open=True, unit=" rad/s"),
+        "settle_timeout_s": duration_s(600.0),
+    }
+
     def validate(self) -> None:
         """Range checks; raise :class:`ConfigError` naming the offending parameter."""
-
-        def positive(name: str) -> None:
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-                raise ConfigError(f"motion.{name} must be > 0, got {v!r}")
-
-        def non_negative(name: str) -> None:
-            v = getattr(self, name)
-            if not (math.isfinite(v) and v >= 0):
-                raise ConfigError(f"motion.{name} must be >= 0, got {v!r}")
-
+        check_ranges(self, "motion")
         if self.planner not in KNOWN_PLANNERS:
             raise ConfigError(
                 f"motion.planner {self.planner!r} unknown; choose one of {', '.join(KNOWN_PLANNERS)}")
-        for name in ("planning_time_s", "num_planning_attempts", "planner_check_step_rad",
-                     "final_check_step_rad", "simplify_max_time_s", "voxel_size_m",
-                     "sphere_cell_m", "max_environment_points", "max_grid_voxels",
-                     "cartesian_step_m", "cartesian_step_rad", "cartesian_max_joint_step_rad",
-                     "ik_q7_samples", "ik_refine_iterations", "ik_accept_position_m",
-                     "ik_accept_orientation_rad", "ik_duplicate_tol_rad", "control_rate_hz",
-                     "toppra_gridpoints", "timing_waypoint_step_rad", "tracking_error_limit_rad",
-                     "settle_position_tol_rad", "settle_velocity_tol_rad_s", "settle_timeout_s",
-                     ):
-            positive(name)
-        for name in ("planner_range_rad", "collision_margin_m", "self_collision_margin_m",
-                     "self_filter_padding_m", "target_ignore_padding_m", "ik_tolerance_m",
-                     "object_points_min_seen_fraction", "object_points_seen_through_fraction",
-                     "object_points_duplicate_overlap",
-                     "ik_tolerance_rad", "timing_limit_tolerance"):
-            non_negative(name)
-        for name in ("velocity_scale", "acceleration_scale"):
-            v = getattr(self, name)
-            if not (0.0 < v <= 1.0):
-                raise ConfigError(f"motion.{name} must be in (0, 1], got {v!r}")
-        if not (0.01 <= self.voxel_size_m <= 0.05):
-            raise ConfigError(f"motion.voxel_size_m must be in [0.01, 0.05] m, got {self.voxel_size_m}")
         if self.final_check_step_rad > self.planner_check_step_rad:
             raise ConfigError("motion.final_check_step_rad must not exceed planner_check_step_rad "
                               f"({self.final_check_step_rad} > {self.planner_check_step_rad})")

@@ -22,6 +22,7 @@ from typing import Optional, Sequence
 import numpy as np
 import trimesh
 
+from .. import signals
 from .convex import DecompositionParams, convex_parts, limit_parts
 from .model import MeshError, ObjectModel
 from .urdf import UrdfGeometry, parse_urdf
@@ -34,9 +35,12 @@ MIN_EXTENT_M = 0.005
 MAX_EXTENT_M = 1.0
 #: Mesh files this module reads.
 MESH_SUFFIXES = (".obj", ".stl")
+#: Largest mesh file read [bytes], checked before reading (a household object's mesh is well
+#: under it; larger ones take minutes and gigabytes to load — decimate them first).
+MAX_MESH_BYTES = 32_000_000
 DEFAULT_RGBA = (0.6, 0.6, 0.6, 1.0)
 
-__all__ = ["MIN_EXTENT_M", "MAX_EXTENT_M", "MESH_SUFFIXES", "read_mesh_bodies", "load_mesh_object",
+__all__ = ["MIN_EXTENT_M", "MAX_EXTENT_M", "MESH_SUFFIXES", "MAX_MESH_BYTES", "read_mesh_bodies", "load_mesh_object",
            "load_urdf_object", "load_object_dir", "load_object", "load_objects"]
 
 
@@ -74,8 +78,13 @@ def read_mesh_bodies(path: "str | os.PathLike", *, role: str = "mesh",
         raise _missing(path, role, urdf)
     if path.suffix.lower() not in MESH_SUFFIXES:
         raise MeshError(f"{where}: not a mesh file (expected {' or '.join(MESH_SUFFIXES)})")
-    if path.stat().st_size == 0:
+    size = path.stat().st_size
+    if size == 0:
         raise MeshError(f"{where}: the file is empty")
+    if size > MAX_MESH_BYTES:
+        raise MeshError(f"{where}: {size / 1e6:.0f} MB is more than a mesh file may be "
+                        f"({MAX_MESH_BYTES / 1e6:.0f} MB); simplify it (e.g. decimate it to under "
+                        "200k triangles) and try again")
     raw = _load_raw(path, where)
     if not raw:
         raise MeshError(f"{where}: no triangles in the file (an empty mesh, or not really "
@@ -145,7 +154,7 @@ def _transformed(meshes: Sequence[trimesh.Trimesh], tf: np.ndarray) -> list:
     return [m.copy().apply_transform(tf) for m in meshes]
 
 
-def _visual_mesh(visuals: list, parts: Sequence[trimesh.Trimesh], notes: list) -> trimesh.Trimesh:
+def _visual_mesh(visuals: list, parts: Sequence[trimesh.Trimesh], warnings: list) -> trimesh.Trimesh:
     """The visual mesh (the parts together when there is none); a closed one faces outwards."""
     if not visuals:
         return trimesh.util.concatenate(list(parts))
@@ -154,7 +163,7 @@ def _visual_mesh(visuals: list, parts: Sequence[trimesh.Trimesh], notes: list) -
         if not visual.is_winding_consistent or visual.volume < 0:
             trimesh.repair.fix_normals(visual)
     else:
-        notes.append("visual mesh is not watertight: the volume (mass) comes from the collision parts")
+        warnings.append("visual mesh is not watertight: the volume (mass) comes from the collision parts")
     return visual
 
 
@@ -168,25 +177,27 @@ def _normalised(parts: Sequence[trimesh.Trimesh], visual: trimesh.Trimesh) -> tu
 
 
 def _assemble(collision: list, visual: list, *, where: str, scale: float,
-              params: DecompositionParams, cache_dir) -> tuple[tuple, trimesh.Trimesh, list]:
+              params: DecompositionParams, cache_dir) -> tuple[tuple, trimesh.Trimesh, list, list]:
     """collision / visual: (bodies in file frame, transform to the link frame) pairs.
 
-    Returns normalised (parts, visual mesh, notes)."""
+    Returns normalised (parts, visual mesh, notes, warnings); the warnings are also notes."""
     s = np.diag([scale, scale, scale, 1.0])
     vis = [m for bodies, tf in visual for m in _transformed(bodies, s @ tf)]
     col_points = [trimesh.transform_points(b.vertices, s @ tf) for bodies, tf in collision for b in bodies]
     _check_extent(np.vstack(col_points + [m.vertices for m in vis]), where, scale)
-    parts, notes = [], []
+    parts, notes, warnings = [], [], []
     for bodies, tf in collision:
         res = convex_parts(bodies, params, cache_dir=cache_dir, source=where)
         parts += _transformed(res.parts, s @ tf)
         notes += res.notes
+        warnings += res.warnings
     if len(parts) > params.max_parts:
         parts, extra = limit_parts(parts, params)
         notes += extra
-    visual_mesh = _visual_mesh(vis, parts, notes)
+    visual_warnings: list = []
+    visual_mesh = _visual_mesh(vis, parts, visual_warnings)
     parts, visual_mesh = _normalised(parts, visual_mesh)
-    return parts, visual_mesh, notes
+    return parts, visual_mesh, notes + visual_warnings, warnings + visual_warnings
 
 
 # ----------------------------------------------------------------------------------- loaders
@@ -203,10 +214,11 @@ def load_mesh_object(path: "str | os.PathLike", *, name: Optional[str] = None, s
     colour = DEFAULT_RGBA if rgba is None else _check_rgba(rgba, str(path))
     bodies = read_mesh_bodies(path)
     merged = bodies[0] if len(bodies) == 1 else trimesh.util.concatenate(bodies)
-    parts, visual, notes = _assemble([(bodies, np.eye(4))], [([merged], np.eye(4))], where=str(path),
-                                     scale=scale, params=params or DecompositionParams(),
-                                     cache_dir=cache_dir)
-    return ObjectModel(name or path.stem, parts, colour, category, visual, str(path), notes=tuple(notes))
+    parts, visual, notes, warnings = _assemble([(bodies, np.eye(4))], [([merged], np.eye(4))],
+                                               where=str(path), scale=scale,
+                                               params=params or DecompositionParams(), cache_dir=cache_dir)
+    return ObjectModel(name or path.stem, parts, colour, category, visual, str(path), notes=tuple(notes),
+                       warnings=tuple(warnings))
 
 
 def load_urdf_object(path: "str | os.PathLike", *, name: Optional[str] = None, scale: float = 1.0,
@@ -223,10 +235,10 @@ def load_urdf_object(path: "str | os.PathLike", *, name: Optional[str] = None, s
     visual = [_geometry_bodies(g, "visual", path) for g in desc.visuals]
     collision = [_geometry_bodies(g, "collision", path) for g in desc.collisions] or visual
     notes = [] if desc.collisions else ["no collision geometry: the visual mesh collides"]
-    parts, mesh, more = _assemble(collision, visual, where=str(path), scale=scale,
-                                  params=params or DecompositionParams(), cache_dir=cache_dir)
+    parts, mesh, more, warnings = _assemble(collision, visual, where=str(path), scale=scale,
+                                            params=params or DecompositionParams(), cache_dir=cache_dir)
     return ObjectModel(name or desc.name, parts, colour, category, mesh, str(path),
-                       notes=tuple(notes + more))
+                       notes=tuple(notes + more), warnings=tuple(warnings))
 
 
 def _dir_entries(folder: Path) -> list:
@@ -247,6 +259,7 @@ def load_object_dir(folder: "str | os.PathLike", *, scale: float = 1.0,
     if not entries:
         raise MeshError(f"{folder}: no object files (.urdf, {', '.join(MESH_SUFFIXES)}) in the folder")
     objects = []
+    mark = signals.received()
     for entry in entries:
         try:
             objects.append(load_object(entry, scale=scale, cache_dir=cache_dir, params=params))
@@ -254,6 +267,7 @@ def load_object_dir(folder: "str | os.PathLike", *, scale: float = 1.0,
             if not skip_bad:
                 raise
             log.warning("skipping an object: %s", exc)
+        signals.raise_if_received_since(mark, f"loading the objects of {folder}")  # (trimesh may swallow it)
     return objects
 
 

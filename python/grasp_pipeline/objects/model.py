@@ -23,7 +23,10 @@ class ObjectModel:
     """An object: ``parts`` are convex ``trimesh.Trimesh`` collision pieces whose union is the
     object; ``visual`` is the mesh drawn (and seen by the depth camera), by default the parts
     together; ``rgba`` its colour; ``category`` a word a user recognises ("mug", "bottle");
-    ``source`` where it came from (a file path or ``"builtin:<name>"``)."""
+    ``source`` where it came from (a file path or ``"builtin:<name>"``); ``notes`` how the
+    loader made it, and ``warnings`` (also among the notes) where its model is cruder than its
+    files (a mesh that is not watertight, a skipped part, a convex hull instead of a
+    decomposition, a cache file that did not fit)."""
 
     name: str
     parts: tuple
@@ -33,6 +36,7 @@ class ObjectModel:
     source: str = ""
     color_name: str = ""
     notes: tuple[str, ...] = field(default_factory=tuple)
+    warnings: tuple[str, ...] = field(default_factory=tuple)
 
     def __post_init__(self) -> None:
         if not self.parts:
@@ -65,4 +69,4 @@ class ObjectModel:
         parts = tuple(p.copy().apply_scale(factor) for p in self.parts)
         visual = None if self.visual is None else self.visual.copy().apply_scale(factor)
         return ObjectModel(self.name, parts, self.rgba, self.category, visual, self.source,
-                           self.color_name, self.notes)
+                           self.color_name, self.notes, self.warnings)

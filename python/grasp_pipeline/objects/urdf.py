@@ -130,9 +130,17 @@ def _rgba(path: Path, link: ET.Element) -> Optional[tuple[float, float, float, f
     return tuple(float(np.clip(c, 0.0, 1.0)) for c in rgba)
 
 
+#: Largest URDF read [bytes] (an object's URDF is about 1 kB), checked before reading.
+MAX_URDF_BYTES = 1_000_000
+
+
 def _read_root(path: Path) -> ET.Element:
     if not path.is_file():
         raise MeshError(f"{path}: URDF file not found")
+    size = path.stat().st_size
+    if size > MAX_URDF_BYTES:
+        raise MeshError(f"{path}: {size / 1e6:.0f} MB is more than an object's URDF may be "
+                        f"({MAX_URDF_BYTES / 1e6:.0f} MB); is it the right file?")
     try:
         root = ET.parse(path).getroot()
     except ET.ParseError as exc:

@@ -1,19 +1,15 @@
-"""Parameter sets of the orchestration: ``config/scan.yaml`` and ``config/grasp.yaml``."""
+"""Parameter sets of the orchestration: ``config/scan.yaml``, ``config/grasp.yaml``,
+``config/declutter.yaml`` and ``config/grasp_fit.yaml``. Each declares the range of every number
+(``RANGES``, checked by :func:`grasp_pipeline.config_ranges.check_ranges`)."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
+from typing import ClassVar, Mapping
 
+from ..config_ranges import (FORCE_N, OPENING_M, POSITIVE_FRACTION, Range, angle_rad,
+                             check_ranges, count, duration_s, length_m, require, step_m)
 from ..exceptions import ConfigError
-
-
-def _positive(obj, *names: str, allow_zero: bool = False) -> None:
-    for n in names:
-        v = getattr(obj, n)
-        if not (v >= 0 if allow_zero else v > 0) or v != v:
-            raise ConfigError(f"{type(obj).__name__}.{n} = {v}: expected a "
-                              f"{'non-negative' if allow_zero else 'positive'} number")
-
 
 #: What makes a segment ambiguous (:mod:`.ambiguity`): a footprint wider than the gripper in
 #: every direction; a non-convex outline.
@@ -42,20 +38,29 @@ class ScanConfig:
     closer_look_cell_m: float = 0.004
     closer_look_min_points: int = 30
 
+    RANGES: ClassVar[Mapping[str, Range]] = {
+        "dwell_frames": count(0, 1000),
+        "dwell_timeout_s": duration_s(600.0),
+        "stale_timeout_s": duration_s(600.0),
+        "select_verify_frames": count(0, 1000),
+        "select_max_distance_m": length_m(),
+        "return_settle_tol_rad": angle_rad(0.1),
+        "return_settle_timeout_s": duration_s(600.0),
+        "rough_view_s": duration_s(600.0),
+        "settle_view_s": duration_s(600.0, zero=True),
+        "scan_timeout_s": duration_s(),
+        "closer_look_standoff_m": length_m(),
+        "closer_look_min_solidity": POSITIVE_FRACTION,
+        "closer_look_cell_m": step_m(),
+        "closer_look_min_points": count(1, 1_000_000),
+    }
+
     def validate(self) -> None:
-        _positive(self, "closer_look_standoff_m", "closer_look_cell_m", "closer_look_min_points")
+        check_ranges(self, "scan")
         unknown = sorted(set(self.closer_look_rules) - set(CLOSER_LOOK_RULES))
         if unknown:
-            raise ConfigError(f"ScanConfig.closer_look_rules: unknown rule(s) {unknown}; "
+            raise ConfigError(f"scan.closer_look_rules: unknown rule(s) {unknown}; "
                               f"choose from {list(CLOSER_LOOK_RULES)}")
-        if not 0.0 < self.closer_look_min_solidity <= 1.0:
-            raise ConfigError(f"ScanConfig.closer_look_min_solidity = {self.closer_look_min_solidity}: "
-                              "expected a fraction in (0, 1]")
-        _positive(self, "dwell_timeout_s", "stale_timeout_s", "return_settle_tol_rad",
-                  "select_max_distance_m",
-                  "return_settle_timeout_s", "rough_view_s", "scan_timeout_s")
-        _positive(self, "settle_view_s", allow_zero=True)
-        _positive(self, "dwell_frames", "select_verify_frames", allow_zero=True)
 
 
 #: The grasp sources ``grasp.grasp_source`` may name.
@@ -98,19 +103,49 @@ class GraspConfig:
     palm_clearance_m: float = 0.01
     grasp_source: str = "any_side"
 
+    RANGES: ClassVar[Mapping[str, Range]] = {
+        "pre_grasp_distance_m": length_m(0.5),
+        "fragment_margin_m": length_m(0.2),
+        "target_fixture_margin_m": length_m(0.5),
+        "rough_takeover_m": length_m(0.2),
+        "approach_backoffs_m": length_m(0.05, zero=True),
+        "open_margin_m": Range(0.0, OPENING_M.hi, lo_open=True, unit=" m"),
+        "close_effort_N": FORCE_N,
+        "close_command_fraction": POSITIVE_FRACTION,
+        "close_squeeze_m": OPENING_M,
+        "gripper_goal_tolerance_m": length_m(0.01),
+        "stall_speed_mps": Range(0.0, 0.2, lo_open=True, unit=" m/s"),
+        "stall_time_s": duration_s(60.0),
+        "stall_gap_band_m": length_m(0.01),
+        "close_timeout_s": duration_s(600.0),
+        "fully_closed_gap_m": Range(0.0, OPENING_M.hi, lo_open=True, unit=" m"),
+        "held_gap_drop_m": Range(0.0, OPENING_M.hi, lo_open=True, unit=" m"),
+        "held_min_force_N": FORCE_N,
+        "lift_height_m": length_m(0.5),
+        "hold_check_s": duration_s(600.0),
+        "retreat_height_m": length_m(0.5),
+        "carry_height_m": length_m(0.8),
+        "place_height_m": length_m(0.6),
+        "place_clearance_m": length_m(0.2),
+        "place_hang_clearance_m": length_m(0.5),
+        "place_slot_dx_m": length_m(0.2, zero=True),
+        "place_slot_dy_m": length_m(0.2, zero=True),
+        "release_wait_s": duration_s(60.0),
+        "pick_timeout_s": duration_s(),
+        "table_clearance_m": length_m(0.1),
+        "palm_clearance_m": length_m(0.1),
+    }
+
     def validate(self) -> None:
-        _positive(self, *(f.name for f in fields(self)
-                          if f.name not in ("close_squeeze_m", "place_slot_dx_m", "place_slot_dy_m",
-                                            "approach_backoffs_m", "grasp_source")))
+        check_ranges(self, "grasp")
+        require(len(self.approach_backoffs_m) > 0, "grasp", "approach_backoffs_m",
+                self.approach_backoffs_m, "a non-empty list of back-offs in [0, 0.05] m")
+        require(self.held_min_force_N <= self.close_effort_N, "grasp", "held_min_force_N",
+                self.held_min_force_N, f"a force <= close_effort_N = {self.close_effort_N:g} N "
+                "(the grip cannot press harder than it closes)")
         if self.grasp_source not in GRASP_SOURCES:
-            raise ConfigError(f"GraspConfig.grasp_source = {self.grasp_source!r}: expected one of "
+            raise ConfigError(f"grasp.grasp_source = {self.grasp_source!r}: expected one of "
                               f"{', '.join(GRASP_SOURCES)}")
-        if not self.approach_backoffs_m or any(not 0 <= b <= 0.05 for b in self.approach_backoffs_m):
-            raise ConfigError("GraspConfig.approach_backoffs_m: expected a non-empty list of "
-                              "back-offs in [0, 0.05] m")
-        _positive(self, "close_squeeze_m", "place_slot_dx_m", "place_slot_dy_m", allow_zero=True)
-        if not 0 < self.close_command_fraction <= 1:
-            raise ConfigError("GraspConfig.close_command_fraction: expected (0, 1]")
 
 
 
@@ -125,12 +160,18 @@ class DeclutterConfig:
     order: str = "score"
     free_space_enough_m: float = 0.03
 
+    RANGES: ClassVar[Mapping[str, Range]] = {
+        "max_consecutive_failures": count(1, 1000),
+        "max_attempts": count(1, 1000),
+        "failed_anchor_radius_m": length_m(0.5, zero=True),
+        "free_space_enough_m": Range(0.0, OPENING_M.hi, unit=" m"),
+    }
+
     def validate(self) -> None:
-        _positive(self, "max_consecutive_failures", "max_attempts")
-        _positive(self, "failed_anchor_radius_m", "free_space_enough_m", allow_zero=True)
+        check_ranges(self, "declutter")
         if self.order not in ("score", "accessibility", "nearest"):
-            raise ConfigError(f"DeclutterConfig.order = {self.order!r}: expected 'score', "
-                              "'accessibility' or 'nearest'")
+            raise ConfigError(f"declutter.order = {self.order!r}: expected 'score', 'accessibility' "
+                              "or 'nearest'")
 
 
 @dataclass(frozen=True)
@@ -157,13 +198,26 @@ class GraspFitConfig:
     min_open_margin_m: float = 0.008
     level_gap_m: float = 0.01
 
+    RANGES: ClassVar[Mapping[str, Range]] = {
+        "cloud_voxel_m": step_m(),
+        "support_gap_m": length_m(0.1),
+        "support_ring_m": length_m(0.1, zero=True),
+        "see_through_fraction": POSITIVE_FRACTION,
+        "footprint_cell_m": step_m(),
+        "box_sample_step_m": step_m(),
+        "line_step_m": step_m(),
+        "min_material_points": count(1, 10_000),
+        "blocked_points": count(0, 10_000),
+        "column_tolerance_m": length_m(0.02, zero=True),
+        "clearance_enough_m": OPENING_M,
+        "max_candidates": count(1, 100),
+        "min_pad_overlap_m": length_m(0.05, zero=True),
+        "contact_depth_m": length_m(0.05),
+        "min_contact_fraction": POSITIVE_FRACTION,
+        "max_centroid_offset_m": length_m(0.2),
+        "min_open_margin_m": Range(0.0, OPENING_M.hi, lo_open=True, hi_open=True, unit=" m"),
+        "level_gap_m": length_m(0.2),
+    }
+
     def validate(self) -> None:
-        _positive(self, "cloud_voxel_m", "support_gap_m", "footprint_cell_m", "box_sample_step_m", "line_step_m",
-                  "min_material_points", "max_candidates")
-        _positive(self, "support_ring_m", "blocked_points", "column_tolerance_m",
-                  "clearance_enough_m", "min_pad_overlap_m", allow_zero=True)
-        _positive(self, "contact_depth_m", "max_centroid_offset_m", "min_open_margin_m",
-                  "level_gap_m")
-        for name in ("see_through_fraction", "min_contact_fraction"):
-            if not 0 < getattr(self, name) <= 1:
-                raise ConfigError(f"GraspFitConfig.{name}: expected (0, 1]")
+        check_ranges(self, "grasp_fit")

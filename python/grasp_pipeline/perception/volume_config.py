@@ -11,16 +11,20 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar, Mapping
 
-from ..exceptions import ConfigError
+from ..config_ranges import (FRACTION, Range, check_ranges, count, length_m, require)
 
 #: What is forgotten after a grasp attempt (``volume_forget``).
 FORGET_TARGET, FORGET_ALL, FORGET_NONE = "target", "all", "none"
 
 
 def _require(ok: bool, name: str, value, expected: str) -> None:
-    if not ok:
-        raise ConfigError(f"volume.{name} = {value!r}: expected {expected}")
+    require(ok, "volume", name, value, expected)
+
+
+#: Log-odds bounds of an occupancy update (p = 0.0067 .. 0.9933).
+LOGODDS = Range(-5.0, 5.0)
 
 
 @dataclass(frozen=True)
@@ -54,12 +58,29 @@ class VolumeConfig:
     side_view_dwell_frames: int = 5
     side_view_return: bool = True
 
+    RANGES: ClassVar[Mapping[str, Range]] = {
+        "volume_box_min_m": Range(-10.0, 10.0, unit=" m"), "volume_box_max_m": Range(-10.0, 10.0, unit=" m"),
+        "volume_voxel_m": Range(0.001, 0.1, unit=" m"), "volume_truncation_m": length_m(),
+        "volume_max_range_m": length_m(10.0), "volume_logodds_hit": LOGODDS,
+        "volume_logodds_miss": LOGODDS, "volume_logodds_min": LOGODDS, "volume_logodds_max": LOGODDS,
+        "volume_integrate_every_frames": count(1, 1000), "volume_integrate_moved_m": length_m(zero=True),
+        "volume_integrate_turned_deg": Range(0.0, 180.0, unit=" deg"),
+        "volume_forget_margin_m": length_m(0.5, zero=True), "side_view_unknown_fraction": FRACTION,
+        "side_view_shell_m": length_m(0.2), "side_view_table_clearance_m": length_m(0.2, zero=True),
+        "side_view_elevations_deg": Range(0.0, 90.0, lo_open=True, hi_open=True, unit=" deg"),
+        "side_view_azimuth_step_deg": Range(0.0, 180.0, lo_open=True, unit=" deg"),
+        "side_view_distances_m": length_m(), "side_view_min_range_m": length_m(zero=True),
+        "side_view_min_gain_fraction": FRACTION, "side_view_max_ik_checks": count(1, 1000),
+        "side_view_dwell_frames": count(1, 1000),
+    }
+
     def __post_init__(self) -> None:
         self.validate()
 
     def validate(self) -> None:
         """Raise ConfigError naming the first parameter out of range (the voxel grid's own
         limits are checked again by the C++ core)."""
+        check_ranges(self, "volume")
         lo, hi = tuple(self.volume_box_min_m), tuple(self.volume_box_max_m)
         for name, box in (("volume_box_min_m", lo), ("volume_box_max_m", hi)):
             _require(len(box) == 3 and all(math.isfinite(float(v)) for v in box), name, list(box),

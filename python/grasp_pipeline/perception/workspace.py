@@ -17,12 +17,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Mapping, Optional
+from typing import Any, ClassVar, Mapping, Optional
 
 import numpy as np
 
 from ..config import load_config
-from ..exceptions import ConfigError
+from ..config_ranges import Range, check_ranges, require
 
 
 @dataclass(frozen=True)
@@ -39,18 +39,19 @@ class WorkspaceConfig:
     def enabled(self) -> bool:
         return self.workspace_max_range_m > 0 or len(self.workspace_crop_box_m) > 0
 
+    RANGES: ClassVar[Mapping[str, Range]] = {
+        "workspace_max_range_m": Range(0.0, 1000.0, unit=" m (0: no limit)"),
+        "workspace_crop_box_m": Range(-1000.0, 1000.0, unit=" m"),
+    }
+
     def validate(self) -> None:
-        r = self.workspace_max_range_m
-        if isinstance(r, bool) or not isinstance(r, (int, float)) or not np.isfinite(r) or r < 0:
-            raise ConfigError(f"workspace.workspace_max_range_m = {r!r}: expected a finite range "
-                              f">= 0 m (0: no limit)")
+        check_ranges(self, "workspace")
         box = tuple(self.workspace_crop_box_m)
-        if box and (len(box) != 6 or not all(np.isfinite(float(v)) for v in box)):
-            raise ConfigError(f"workspace.workspace_crop_box_m = {list(box)!r}: expected 6 finite "
-                              f"numbers [xmin, xmax, ymin, ymax, zmin, zmax] in m (or [] for no box)")
-        if box and not all(box[2 * a] < box[2 * a + 1] for a in range(3)):
-            raise ConfigError(f"workspace.workspace_crop_box_m = {list(box)!r}: each minimum must be "
-                              f"below its maximum ([xmin, xmax, ymin, ymax, zmin, zmax])")
+        require(not box or len(box) == 6, "workspace", "workspace_crop_box_m", list(box),
+                "6 numbers [xmin, xmax, ymin, ymax, zmin, zmax] in m (or [] for no box)")
+        require(not box or all(box[2 * a] < box[2 * a + 1] for a in range(3)), "workspace",
+                "workspace_crop_box_m", list(box),
+                "each minimum below its maximum ([xmin, xmax, ymin, ymax, zmin, zmax])")
 
     def outside(self, points: np.ndarray, camera_position) -> np.ndarray:
         """(N,) bool: finite rows outside the workspace (NaN rows are not counted)."""

@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar, Mapping
 
-from ..exceptions import ConfigError
+from ..config_ranges import RATE_HZ, Range, check_ranges, count, require
 
 #: Largest video image side [px].
 MAX_VIDEO_PX = 1920
@@ -20,14 +21,18 @@ class VideoConfig:
     video_width_px: int = 320
     video_height_px: int = 240
 
+    RANGES: ClassVar[Mapping[str, Range]] = {
+        "video_fps": Range(0.0, 120.0, lo_open=True, unit=" Hz"),
+        "video_width_px": count(16, MAX_VIDEO_PX, " px"),
+        "video_height_px": count(16, MAX_VIDEO_PX, " px"),
+    }
+
     def validate(self) -> None:
-        if not 0.0 < self.video_fps <= 120.0:
-            raise ConfigError(f"video_fps must be in (0, 120], got {self.video_fps}")
+        check_ranges(self, "video")
         for name in ("video_width_px", "video_height_px"):
             v = getattr(self, name)
             # even sides: the H.264 encoder's 4:2:0 chroma needs them
-            if not (16 <= v <= MAX_VIDEO_PX and v % 2 == 0):
-                raise ConfigError(f"{name} must be an even number in 16..{MAX_VIDEO_PX}, got {v}")
+            require(v % 2 == 0, "video", name, v, f"an even number in 16..{MAX_VIDEO_PX}")
 
 
 #: Largest JPEG quality of the recorded camera images.
@@ -53,16 +58,14 @@ class RerunConfig:
     rerun_jpeg_quality: int = 85
     rerun_plan_samples: int = 60
 
+    RANGES: ClassVar[Mapping[str, Range]] = {
+        "rerun_state_rate_hz": RATE_HZ,
+        "rerun_frame_rate_hz": RATE_HZ,
+        "rerun_max_object_points": count(0, 10_000_000),
+        "rerun_max_environment_points": count(0, 10_000_000),
+        "rerun_jpeg_quality": count(0, MAX_JPEG_QUALITY, " (0: raw RGB)"),
+        "rerun_plan_samples": count(2, 10_000),
+    }
+
     def validate(self) -> None:
-        for name in ("rerun_state_rate_hz", "rerun_frame_rate_hz"):
-            v = getattr(self, name)
-            if not 0.0 < v <= 1000.0:
-                raise ConfigError(f"{name} must be in (0, 1000] Hz, got {v}")
-        for name in ("rerun_max_object_points", "rerun_max_environment_points"):
-            if getattr(self, name) < 0:
-                raise ConfigError(f"{name} must be >= 0, got {getattr(self, name)}")
-        if not 0 <= self.rerun_jpeg_quality <= MAX_JPEG_QUALITY:
-            raise ConfigError(f"rerun_jpeg_quality must be in 0..{MAX_JPEG_QUALITY} (0: raw RGB), "
-                              f"got {self.rerun_jpeg_quality}")
-        if self.rerun_plan_samples < 2:
-            raise ConfigError(f"rerun_plan_samples must be >= 2, got {self.rerun_plan_samples}")
+        check_ranges(self, "rerun")

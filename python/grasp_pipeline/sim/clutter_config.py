@@ -4,10 +4,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, ClassVar, Mapping
 
 from ..config import load_config
-from ..exceptions import ConfigError
+from ..config_ranges import (CELL_COORDINATE_M, Range, check_ranges, count, duration_s, length_m,
+                             require)
 
 
 @dataclass(frozen=True)
@@ -26,21 +27,28 @@ class ClutterConfig:
     box_wall_height_m: float = 0.15
     box_wall_thickness_m: float = 0.01
 
+    RANGES: ClassVar[Mapping[str, Range]] = {
+        "objects_per_scene": count(1, 30),
+        "square_center_m": CELL_COORDINATE_M,
+        "square_size_m": length_m(),
+        "packed_scale": Range(0.0, 3.0, lo_open=True),
+        "pile_scale": Range(0.0, 3.0, lo_open=True),
+        "placement_attempts": count(1, 1000),
+        "placement_gap_m": length_m(0.1, zero=True),
+        "drop_height_m": length_m(),
+        "settle_s": duration_s(60.0),
+        "box_wall_height_m": length_m(),
+        "box_wall_thickness_m": length_m(0.1),
+    }
+
     def validate(self) -> None:
-        if not 1 <= self.objects_per_scene <= 30:
-            raise ConfigError(f"clutter.objects_per_scene must be 1..30, got {self.objects_per_scene}")
-        if len(self.square_center_m) != 2:
-            raise ConfigError("clutter.square_center_m needs (x, y)")
+        check_ranges(self, "clutter")
+        require(len(self.square_center_m) == 2, "clutter", "square_center_m",
+                self.square_center_m, "(x, y)")
         for name in ("packed_scale", "pile_scale"):
             lo_hi = getattr(self, name)
-            if len(lo_hi) != 2 or not 0 < lo_hi[0] <= lo_hi[1] <= 3:
-                raise ConfigError(f"clutter.{name} must be [min, max] with 0 < min <= max <= 3, got {lo_hi}")
-        for name in ("square_size_m", "drop_height_m", "settle_s", "box_wall_height_m",
-                     "box_wall_thickness_m"):
-            if not getattr(self, name) > 0:
-                raise ConfigError(f"clutter.{name} must be > 0, got {getattr(self, name)}")
-        if self.placement_attempts < 1 or self.placement_gap_m < 0:
-            raise ConfigError("clutter.placement_attempts must be >= 1 and placement_gap_m >= 0")
+            require(len(lo_hi) == 2 and lo_hi[0] <= lo_hi[1], "clutter", name, list(lo_hi),
+                    "[min, max] with min <= max")
 
 
 def load_clutter_config(path: str | Path | None = None,

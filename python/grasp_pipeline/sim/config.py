@@ -8,19 +8,23 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, ClassVar, Mapping
 
 from ..config import load_config
+from ..config_ranges import (CELL_COORDINATE_M, FORCE_N, RATE_HZ, REACH_M, Range, check_ranges, count,
+                             length_m, require)
 from ..exceptions import ConfigError
 
 CAMERA_BACKENDS = ("auto", "gl", "raycast")
 #: When frames are rendered: only while requested (``on_demand``) or always (``continuous``).
 FRAME_MODES = ("on_demand", "continuous")
+#: Largest camera image side [px] (a 4096 x 4096 frame is 16.8 M points).
+MAX_IMAGE_PX = 4096
 
 
-def _check_range(name: str, rng: tuple[float, ...], lo: float = 0.0) -> None:
-    if len(rng) != 2 or not (lo <= rng[0] <= rng[1]):
-        raise ConfigError(f"{name} must be [min, max] with {lo} <= min <= max, got {list(rng)}")
+def _check_min_max(section: str, name: str, rng: tuple) -> None:
+    """A [min, max] pair (each item's range is declared in RANGES)."""
+    require(len(rng) == 2 and rng[0] <= rng[1], section, name, list(rng), "[min, max] with min <= max")
 
 
 @dataclass(frozen=True)
@@ -48,40 +52,33 @@ class CameraConfig:
     rgb: bool = True
     labels: bool = False
 
+    RANGES: ClassVar[Mapping[str, Range]] = {
+        "width_px": count(8, MAX_IMAGE_PX, " px"),
+        "height_px": count(8, MAX_IMAGE_PX, " px"),
+        "vfov_deg": Range(1.0, 170.0, lo_open=True, hi_open=True, unit=" deg"),
+        "rate_hz": RATE_HZ,
+        "min_range_m": length_m(10.0),
+        "max_range_m": length_m(100.0),
+        "noise_sigma_m": length_m(0.1, zero=True),
+        "noise_ref_range_m": length_m(100.0),
+        "noise_exponent": Range(0.0, 4.0),
+        "grazing_max_deg": Range(0.0, 90.0, lo_open=True, unit=" deg"),
+        "seed": count(0, 2**63 - 1),
+    }
+
     def validate(self) -> None:
-        if not (8 <= self.width_px <= MAX_IMAGE_PX and 8 <= self.height_px <= MAX_IMAGE_PX):
-            raise ConfigError(f"camera image must be 8..{MAX_IMAGE_PX} px on each side, got "
-                              f"{self.width_px}x{self.height_px}")
-        if not 0 <= self.seed < 2**63:
-            raise ConfigError(f"camera.seed must be a whole number >= 0, got {self.seed}")
-        if not 1.0 < self.vfov_deg < 170.0:
-            raise ConfigError(f"vfov_deg must be in (1, 170), got {self.vfov_deg}")
-        if self.rate_hz <= 0:
-            raise ConfigError(f"rate_hz must be > 0, got {self.rate_hz}")
-        if not 0 < self.min_range_m < self.max_range_m:
-            raise ConfigError(
-                f"need 0 < min_range_m < max_range_m, got {self.min_range_m}, {self.max_range_m}")
-        if self.noise_sigma_m < 0 or self.noise_ref_range_m <= 0:
-            raise ConfigError("noise_sigma_m must be >= 0 and noise_ref_range_m > 0")
-        if not 0 < self.grazing_max_deg <= 90:
-            raise ConfigError(f"grazing_max_deg must be in (0, 90], got {self.grazing_max_deg}")
+        check_ranges(self, "camera")
+        require(self.min_range_m < self.max_range_m, "camera", "min_range_m", self.min_range_m,
+                f"a range below max_range_m = {self.max_range_m:g} m")
         if self.frames not in FRAME_MODES:
             raise ConfigError(f"camera.frames must be one of {FRAME_MODES}, got {self.frames!r}")
         if self.backend not in CAMERA_BACKENDS:
-            raise ConfigError(f"backend must be one of {CAMERA_BACKENDS}, got {self.backend!r}")
-        for flag in ("rgb", "labels"):
-            value = getattr(self, flag)
-            if not isinstance(value, bool):
-                raise ConfigError(f"camera.{flag} must be true or false, got {value!r}")
+            raise ConfigError(f"camera.backend must be one of {CAMERA_BACKENDS}, got {self.backend!r}")
 
     @property
     def period_s(self) -> float:
         """Time between frames [s]."""
         return 1.0 / self.rate_hz
-
-
-#: Largest camera image side [px] (a 4096 x 4096 frame is 16.8 M points).
-MAX_IMAGE_PX = 4096
 
 
 @dataclass(frozen=True)
@@ -105,23 +102,33 @@ class SimConfig:
     cylinder_diameter_m: tuple[float, ...] = (0.03, 0.07)
     cylinder_height_m: tuple[float, ...] = (0.04, 0.07)
 
+    RANGES: ClassVar[Mapping[str, Range]] = {
+        "timestep_s": Range(0.0005, 0.005, unit=" s"),
+        "gripper_speed_mps": Range(0.0, 1.0, lo_open=True, unit=" m/s"),
+        "gripper_default_effort_N": FORCE_N,
+        "gripper_max_effort_N": FORCE_N,
+        "object_density_kg_m3": Range(0.0, 25_000.0, lo_open=True, unit=" kg/m^3"),
+        "object_friction": Range(0.0, 10.0, lo_open=True),
+        "table_top_z_m": length_m(REACH_M, zero=True),
+        "region_x_m": CELL_COORDINATE_M,
+        "region_y_m": CELL_COORDINATE_M,
+        "min_separation_m": length_m(0.5, zero=True),
+        "object_count": count(1, 30),
+        "cube_size_m": length_m(0.3, lo=0.005),
+        "cuboid_width_m": length_m(0.3, lo=0.005),
+        "cuboid_height_m": length_m(0.3, lo=0.005),
+        "cylinder_diameter_m": length_m(0.3, lo=0.005),
+        "cylinder_height_m": length_m(0.3, lo=0.005),
+    }
+
     def validate(self) -> None:
-        if not 0.0005 <= self.timestep_s <= 0.005:
-            raise ConfigError(f"timestep_s must be in [0.0005, 0.005], got {self.timestep_s}")
-        if self.gripper_speed_mps <= 0:
-            raise ConfigError(f"gripper_speed_mps must be > 0, got {self.gripper_speed_mps}")
-        if not 0 < self.gripper_default_effort_N <= self.gripper_max_effort_N:
-            raise ConfigError("need 0 < gripper_default_effort_N <= gripper_max_effort_N")
-        if self.object_density_kg_m3 <= 0 or self.object_friction <= 0:
-            raise ConfigError("object_density_kg_m3 and object_friction must be > 0")
-        _check_range("region_x_m", self.region_x_m, lo=-10.0)
-        _check_range("region_y_m", self.region_y_m, lo=-10.0)
-        _check_range("object_count", tuple(float(v) for v in self.object_count), lo=1.0)
-        for name in ("cube_size_m", "cuboid_width_m", "cuboid_height_m",
-                     "cylinder_diameter_m", "cylinder_height_m"):
-            _check_range(name, getattr(self, name), lo=0.005)
-        if self.min_separation_m < 0:
-            raise ConfigError("min_separation_m must be >= 0")
+        check_ranges(self, "sim")
+        require(self.gripper_default_effort_N <= self.gripper_max_effort_N, "sim",
+                "gripper_default_effort_N", self.gripper_default_effort_N,
+                f"a force <= gripper_max_effort_N = {self.gripper_max_effort_N:g} N")
+        for name in ("region_x_m", "region_y_m", "object_count", "cube_size_m", "cuboid_width_m",
+                     "cuboid_height_m", "cylinder_diameter_m", "cylinder_height_m"):
+            _check_min_max("sim", name, getattr(self, name))
 
 
 def load_camera_config(path: str | Path | None = None,

@@ -16,7 +16,7 @@ def test_the_yaml_loads_and_overrides_apply():
 
 @pytest.mark.parametrize("override, match", [
     ({"colour_names": ["red"]}, "same length"),
-    ({"colour_rgb": [[2, 0, 0]] * 13}, r"triples in \[0, 1\]"),
+    ({"colour_rgb": [[2, 0, 0]] * 13}, r"colour_rgb\[0\]\[0\] = 2.0 is out of range: expected a number in \[0, 1\]"),
     ({"shape_synonyms": ["tin=jar"]}, "unknown shape"),
     ({"colour_synonyms": ["scarlet=crimson"]}, "not in colour_names"),
     ({"size_synonyms": ["huge"]}, "not word=meaning"),

@@ -3,8 +3,13 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar, Mapping
 
-from ...exceptions import ConfigError
+from ...config_ranges import (FRACTION, POSITIVE_FRACTION, Range, check_ranges, count, length_m,
+                              require, step_m)
+
+#: A weight of the score (0: the term does not count).
+WEIGHT = Range(0.0, 100.0)
 
 
 @dataclass(frozen=True)
@@ -44,36 +49,26 @@ class SamplerConfig:
     min_facing_fraction: float = 0.25
     weight_unknown: float = 1.0
 
+    RANGES: ClassVar[Mapping[str, Range]] = {
+        "max_tilt_deg": Range(0.0, 90.0, unit=" deg"),
+        "tilts_deg": Range(0.0, 90.0, lo_open=True, unit=" deg"),
+        "azimuths": count(1, 72), "rotations": count(1, 72), "normal_axes": count(0, 64),
+        "lines": count(1, 21), "line_spacing_m": step_m(0.05), "cell_m": step_m(0.02),
+        "max_cell_m": step_m(0.02), "max_points": count(50, 20000), "preselect": count(1, 2000),
+        "approach_checks_m": length_m(0.3, zero=True), "max_raise_m": length_m(0.1, zero=True),
+        "reach_candidates": count(1, 200), "max_proposals": count(1, 200),
+        "duplicate_distance_m": length_m(0.1, zero=True),
+        "duplicate_angle_deg": Range(0.0, 90.0, lo_open=True, unit=" deg"),
+        "unknown_max_fraction": POSITIVE_FRACTION,
+        "friction_cone_deg": Range(0.0, 90.0, lo_open=True, hi_open=True, unit=" deg"),
+        "min_facing_fraction": FRACTION,
+        "centre_scale_m": length_m(0.5), "width_scale_m": length_m(0.5),
+        "hand_clearance_enough_m": length_m(0.5),
+        **{f"weight_{w}": WEIGHT for w in ("coverage", "antipodal", "centre", "depth", "width",
+                                            "overlap", "tilt", "clearance", "unknown")},
+    }
+
     def validate(self) -> None:
-        if not 0.0 <= self.max_tilt_deg <= 90.0:
-            raise ConfigError(f"SamplerConfig.max_tilt_deg = {self.max_tilt_deg}: expected 0-90 deg")
-        if any(not 0.0 < t <= 90.0 for t in self.tilts_deg):
-            raise ConfigError("SamplerConfig.tilts_deg: expected tilts in (0, 90] deg")
-        for name in ("azimuths", "rotations", "lines", "max_points", "preselect",
-                     "reach_candidates", "max_proposals"):
-            v = getattr(self, name)
-            if not 1 <= v <= 100000:
-                raise ConfigError(f"SamplerConfig.{name} = {v}: expected an integer in [1, 100000]")
-        if not 0 <= self.normal_axes <= 1000:
-            raise ConfigError(f"SamplerConfig.normal_axes = {self.normal_axes}: expected 0-1000")
-        for name in ("line_spacing_m", "cell_m", "max_cell_m", "duplicate_distance_m", "max_raise_m", "centre_scale_m", "width_scale_m",
-                     "hand_clearance_enough_m"):
-            v = getattr(self, name)
-            if not 0.0 < v <= 0.5:
-                raise ConfigError(f"SamplerConfig.{name} = {v}: expected (0, 0.5] m")
-        if not self.approach_checks_m or any(not 0.0 <= b <= 0.3 for b in self.approach_checks_m):
-            raise ConfigError("SamplerConfig.approach_checks_m: expected distances in [0, 0.3] m")
-        if not 0.0 <= self.min_facing_fraction <= 1.0:
-            raise ConfigError("SamplerConfig.min_facing_fraction: expected [0, 1]")
-        if not 0.0 < self.friction_cone_deg < 90.0:
-            raise ConfigError("SamplerConfig.friction_cone_deg: expected (0, 90) deg")
-        if not 0.0 < self.duplicate_angle_deg <= 90.0:
-            raise ConfigError("SamplerConfig.duplicate_angle_deg: expected (0, 90] deg")
-        if not 0.0 <= self.unknown_max_fraction <= 1.0:
-            raise ConfigError("SamplerConfig.unknown_max_fraction: expected [0, 1]")
-        for name in ("weight_coverage", "weight_antipodal", "weight_centre", "weight_depth",
-                     "weight_width", "weight_overlap", "weight_tilt", "weight_clearance",
-                     "weight_unknown"):
-            v = getattr(self, name)
-            if not 0.0 <= v <= 100.0:
-                raise ConfigError(f"SamplerConfig.{name} = {v}: expected a weight in [0, 100]")
+        check_ranges(self, "grasp_sampler")
+        require(self.cell_m <= self.max_cell_m, "grasp_sampler", "cell_m", self.cell_m,
+                f"a cell no coarser than max_cell_m = {self.max_cell_m:g} m")
