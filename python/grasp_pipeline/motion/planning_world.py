@@ -32,6 +32,8 @@ from .perceived_scene import PerceivedScene
 
 PERCEIVED_PREFIX = "object/"
 FIXTURE_PREFIX = "fixture/"
+#: Environment points less than this above the table plane are the table's [m].
+TABLE_BAND_M = 0.01
 
 
 @dataclass(frozen=True)
@@ -101,7 +103,8 @@ class PlanningWorld:
                cell_m: float = 0.02) -> int:
         """Attach what the hand holds: ``points_world`` (N, 3) of it at the TCP pose
         ``T_world_tcp``, covered by spheres (one per ``cell_m`` cell, each holding its cell's
-        points). Removes the object ``name`` from the obstacles. Returns the sphere count."""
+        points). Removes the object ``name`` from the obstacles, and the environment points in
+        the region it stood in (above the table). Returns the sphere count."""
         pts = np.asarray(points_world, dtype=float).reshape(-1, 3)
         pts = pts[np.all(np.isfinite(pts), axis=1)]
         if len(pts) == 0:
@@ -112,8 +115,25 @@ class PlanningWorld:
         local = (pts - T_world_hand[:3, 3]) @ T_world_hand[:3, :3]
         centres, radii = _cover(local, cell_m)
         self.planner.robot.attach(name, centres, radii)
+        if name in self.objects:
+            self._clear_environment(self.objects[name].box)
         self.remove_object(name)
         return len(radii)
+
+    def _clear_environment(self, box: OrientedBox) -> None:
+        """Drop the environment points in the region the held object stood in (its box grown
+        by a voxel), except the table's (less than :data:`TABLE_BAND_M` above the plane):
+        stray points of the object that no track took would otherwise stay where it stood
+        and meet it when it is lifted."""
+        env = self.environment
+        if not len(env):
+            return
+        inside = box.inflated(float(self.planner.config.voxel_size_m)).contains(env)
+        if self.plane is not None:
+            inside &= env @ np.asarray(self.plane.n, float) + float(self.plane.c) > TABLE_BAND_M
+        if np.any(inside):
+            self.environment = env[~inside]
+            self._env_dirty = True
 
     def detach(self) -> Optional[str]:
         """Release what the hand holds (its spheres leave the hand); returns its name."""

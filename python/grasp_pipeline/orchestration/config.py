@@ -64,7 +64,7 @@ GRASP_SOURCES = ("any_side", "top_down")
 
 @dataclass(frozen=True)
 class GraspConfig:
-    """SPEC 7 grasp action and the PLACE stage (ours)."""
+    """SPEC 7 grasp action (the PLACE stage's parameters: :class:`~.place_config.PlaceConfig`)."""
 
     pre_grasp_distance_m: float = 0.12
     fragment_margin_m: float = 0.01
@@ -86,12 +86,6 @@ class GraspConfig:
     lift_height_m: float = 0.10
     hold_check_s: float = 2.0
     retreat_height_m: float = 0.10
-    carry_height_m: float = 0.30
-    place_height_m: float = 0.15
-    place_clearance_m: float = 0.015
-    place_hang_clearance_m: float = 0.08
-    place_slot_dx_m: float = 0.05
-    place_slot_dy_m: float = 0.08
     release_wait_s: float = 0.6
     pick_timeout_s: float = 90.0
     table_clearance_m: float = 0.004
@@ -100,15 +94,14 @@ class GraspConfig:
 
     def validate(self) -> None:
         _positive(self, *(f.name for f in fields(self)
-                          if f.name not in ("close_squeeze_m", "place_slot_dx_m", "place_slot_dy_m",
-                                            "approach_backoffs_m", "grasp_source")))
+                          if f.name not in ("close_squeeze_m", "approach_backoffs_m", "grasp_source")))
         if self.grasp_source not in GRASP_SOURCES:
             raise ConfigError(f"GraspConfig.grasp_source = {self.grasp_source!r}: expected one of "
                               f"{', '.join(GRASP_SOURCES)}")
         if not self.approach_backoffs_m or any(not 0 <= b <= 0.05 for b in self.approach_backoffs_m):
             raise ConfigError("GraspConfig.approach_backoffs_m: expected a non-empty list of "
                               "back-offs in [0, 0.05] m")
-        _positive(self, "close_squeeze_m", "place_slot_dx_m", "place_slot_dy_m", allow_zero=True)
+        _positive(self, "close_squeeze_m", allow_zero=True)
         if not 0 < self.close_command_fraction <= 1:
             raise ConfigError("GraspConfig.close_command_fraction: expected (0, 1]")
 

@@ -1,0 +1,172 @@
+"""Where in the tray the held object goes: a free spot on the floor with room for the object
+and the hand, nearest the preferred one.
+
+The held object is known by its points in the TCP frame (what was perceived of it at the grasp)
+and the hand by the planner's spheres of the hand and the fingers in the TCP frame. The object
+keeps the attitude it was carried with; only the TCP's turn about the vertical (``rotations``)
+and the position change. At a spot, the object's bottom is released ``release_clearance_m``
+above the floor, which fixes how high every hand sphere then is. A spot (cell of the tray's
+``spot_cell_m`` grid, the TCP above its centre) with one rotation is **free** when
+
+* every cell under the object (grown by ``spot_spacing_m``) lies on the tray floor, away from
+  the walls, and holds nothing higher than ``seen_min_height_m`` (the object goes onto the floor:
+  no stacking);
+* under every hand sphere (grown by ``spot_spacing_m``), the walls and contents stay at least
+  ``spot_spacing_m`` below the sphere; outside the tray the walls' height counts.
+
+Spots are ranked by their distance to the preferred position (the k-th of a 2 x 3 pattern for
+the k-th object: the first objects go where they always went); each kept spot is at least
+``spot_separation_m`` from the spots before it, with its free rotations in their given order.
+No free spot at all: :class:`TrayFull`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..exceptions import GraspPipelineError
+from .place_config import PlaceConfig
+from .tray import TrayContents
+
+
+class TrayFull(GraspPipelineError):
+    """No free spot in the tray for the held object."""
+
+
+@dataclass(frozen=True)
+class HeldShape:
+    """The held object's points ``points_tcp`` (N, 3) and the hand's spheres (``hand_centres``
+    (S, 3), ``hand_radii`` (S,)), all in the TCP frame."""
+
+    points_tcp: np.ndarray
+    hand_centres: np.ndarray
+    hand_radii: np.ndarray
+
+    def bottom_m(self, R: np.ndarray) -> float:
+        """How far the object's lowest point lies below the TCP [m] with the TCP rotation ``R``
+        (the same for every turn about the vertical)."""
+        return -float((self.points_tcp @ np.asarray(R, float).T)[:, 2].min())
+
+    def size_mm(self) -> str:
+        ext = np.ptp(self.points_tcp, axis=0) * 1e3
+        return " x ".join(f"{e:.0f}" for e in np.sort(ext)[::-1]) + " mm"
+
+
+@dataclass(frozen=True)
+class Spot:
+    """A free spot: the TCP's ``xy`` [m] there and its free ``rotations`` (in preference
+    order); ``distance_m`` from the preferred position."""
+
+    xy: np.ndarray
+    rotations: tuple
+    distance_m: float
+
+
+#: The preferred positions' order on a 3 x 3 pattern (in the tray floor's axes, -1 / 0 / +1
+#: times the pattern's reach): the corners first, then the middles of the sides, then the
+#: centre — objects packed against the walls leave the middle free for the next ones.
+PATTERN = ((1, 1), (-1, 1), (1, -1), (-1, -1), (0, 1), (0, -1), (1, 0), (-1, 0), (0, 0))
+
+
+def preferred_positions(geometry, k: int, inset_m: float) -> list:
+    """World xy of the 9 preferred positions, the k-th first (then round the pattern):
+    ``inset_m`` in from the edges of the tray floor."""
+    reach = np.maximum(geometry.half_m - inset_m, 0.0)
+    out = []
+    for i in range(len(PATTERN)):
+        a, b = PATTERN[(k + i) % len(PATTERN)]
+        out.append(geometry.center_xy + a * reach[0] * geometry.axes[:, 0] + b * reach[1] * geometry.axes[:, 1])
+    return out
+
+
+def _stamp(shape: HeldShape, R: np.ndarray, axes: np.ndarray, cell_m: float, cfg: PlaceConfig):
+    """The cells around the TCP's cell (offsets in the tray grid's axes ``axes``) a spot with
+    the TCP rotation ``R`` needs: ``obj`` (K, 2) must be empty floor; ``hand`` (L, 2) with
+    ``limits`` (L,): the highest content allowed there [m above the floor]."""
+    R = np.asarray(R, float)
+    P = shape.points_tcp @ R.T
+    s = cfg.spot_spacing_m
+    obj = _cells_near(P[:, :2] @ axes, np.zeros(len(P)), s, cell_m)
+    h_tcp = cfg.release_clearance_m + shape.bottom_m(R)
+    C = shape.hand_centres @ R.T
+    cells, limits = [], []
+    for c, r in zip(C, shape.hand_radii):
+        d = _cells_near(c[None, :2] @ axes, np.array([r]), s, cell_m)
+        cells.append(d)
+        limits.append(np.full(len(d), h_tcp + c[2] - r - s))
+    cells, limits = np.vstack(cells), np.concatenate(limits)
+    order = np.lexsort((limits, cells[:, 1], cells[:, 0]))
+    cells, limits = cells[order], limits[order]
+    first = np.r_[True, np.any(cells[1:] != cells[:-1], axis=1)]
+    return obj, cells[first], limits[first]  # the lowest limit of each cell
+
+
+def _cells_near(xy: np.ndarray, r: np.ndarray, pad_m: float, cell_m: float) -> np.ndarray:
+    """Offsets (K, 2) of the cells (the TCP at the centre of cell (0, 0)) that come within
+    ``pad_m`` of a disc of radius ``r`` (N,) around any of ``xy`` (N, 2) [m]."""
+    reach = pad_m + 0.5 * np.sqrt(2.0) * cell_m
+    lo = np.floor((xy - r[:, None]).min(axis=0) / cell_m - 1 - reach / cell_m).astype(int)
+    hi = np.ceil((xy + r[:, None]).max(axis=0) / cell_m + 1 + reach / cell_m).astype(int)
+    I, J = np.meshgrid(np.arange(lo[0], hi[0] + 1), np.arange(lo[1], hi[1] + 1), indexing="ij")
+    off = np.c_[I.ravel(), J.ravel()]
+    if len(xy) > 64:  # an object's points: the nearest one decides
+        from scipy.spatial import cKDTree
+
+        d, _ = cKDTree(xy).query(off * cell_m, distance_upper_bound=reach + 1e-9)
+        return off[np.isfinite(d)]
+    d = np.linalg.norm(off[:, None] * cell_m - xy[None], axis=2) - r[None]
+    return off[np.min(d, axis=1) <= reach]
+
+
+def _free_cells(grid, heights: np.ndarray, floor_ok: np.ndarray, stamp, rim_m: float) -> np.ndarray:
+    """(nu, nv) whether the TCP over each cell's centre has what ``stamp`` needs."""
+    obj, hand, limits = stamp
+    pad = int(max(np.abs(obj).max(initial=0), np.abs(hand).max(initial=0)))
+    nu, nv = grid.shape
+    H = np.pad(heights, pad, constant_values=rim_m)
+    F = np.pad(floor_ok, pad, constant_values=False)
+    ok = np.ones((nu, nv), dtype=bool)
+    for du, dv in obj:
+        ok &= F[pad + du:pad + du + nu, pad + dv:pad + dv + nv]
+    for (du, dv), lim in zip(hand, limits):
+        ok &= H[pad + du:pad + du + nu, pad + dv:pad + dv + nv] <= lim
+    return ok
+
+
+def free_spots(contents: TrayContents, shape: HeldShape, rotations, preferred: list,
+               cfg: PlaceConfig) -> list[Spot]:
+    """Up to ``arrival_spots`` free spots (module doc): the free spot nearest each of the
+    ``preferred`` positions in turn, then the others nearest the first; :class:`TrayFull`
+    when there is none."""
+    grid = contents.geometry.grid(cfg.spot_cell_m)
+    contents_h = contents.heights(grid)
+    floor_ok = (contents_h <= cfg.seen_min_height_m) & ~grid.wall_mask()
+    heights = np.maximum(contents_h, grid.wall_heights)
+    axes, rim = contents.geometry.axes, contents.geometry.rim_m
+    free = np.array([_free_cells(grid, heights, floor_ok, _stamp(shape, R, axes, grid.cell_m, cfg), rim)
+                     for R in rotations])
+    cells = np.argwhere(np.any(free, axis=0))
+    if len(cells) == 0:
+        raise TrayFull(f"the tray is full: no free spot for the held object ({shape.size_mm()}) "
+                       f"and the hand among the {len(contents.objects)} object(s) in it")
+    xy = grid.centres()[cells[:, 0], cells[:, 1]]
+    spots: list[Spot] = []
+
+    def take(p, one: bool) -> None:
+        dist = np.linalg.norm(xy - np.asarray(p)[:2], axis=1)
+        for k in np.argsort(dist, kind="stable"):
+            if len(spots) >= cfg.arrival_spots:
+                return
+            if all(np.linalg.norm(xy[k] - s.xy) >= cfg.spot_separation_m for s in spots):
+                i, j = cells[k]
+                spots.append(Spot(xy[k].copy(), tuple(R for R, f in zip(rotations, free) if f[i, j]),
+                                  float(dist[k])))
+                if one:
+                    return
+
+    for p in preferred:  # the nearest free spot to each preferred position ...
+        take(p, one=True)
+    take(preferred[0], one=False)  # ... then any, nearest the first
+    return spots
