@@ -6,7 +6,8 @@ scan, then one pick at a time with a fresh look after each attempt
 cannot know: which true object each attempt was aimed at and whether it ended in the tray
 (:class:`~grasp_pipeline.evaluation.pick_evaluator.PickEvaluator`), the segmentation of the
 scan's probe frames (:class:`~grasp_pipeline.evaluation.segmentation.ScanSegmentationRecorder`)
-and PNGs of every failed attempt. Afterwards the ground truth says whether the table is clear.
+and PNGs of every failed attempt (for a failure after the grasp, also a view of where the
+object went, :mod:`~grasp_pipeline.evaluation.object_view`). Afterwards the ground truth says whether the table is clear.
 
 :func:`run_round` never raises: an exception becomes the record's ``error``.
 """
@@ -68,12 +69,16 @@ class _Observers:
         self.view = None
 
     def __call__(self, system) -> None:
+        from ..evaluation.object_view import ObjectView
         from ..evaluation.segmentation import ScanSegmentationRecorder
         from ..report.failure_recorder import FailureSnapshotRecorder
 
         self.system = system
         self.segmentation = ScanSegmentationRecorder(system.world, self.band_m).attach(system.events)
-        self.failures = FailureSnapshotRecorder(self.out_dir / "failures", self._render()).attach(system.events)
+        render = self._render()
+        self.failures = FailureSnapshotRecorder(
+            self.out_dir / "failures", render,
+            None if render is None else ObjectView(system.world, self.view).render).attach(system.events)
 
     def _render(self):
         from ..sim.exceptions import RenderUnavailable

@@ -34,6 +34,8 @@ PERCEIVED_PREFIX = "object/"
 FIXTURE_PREFIX = "fixture/"
 #: Environment points less than this above the table plane are the table's [m].
 TABLE_BAND_M = 0.01
+#: Cell of the grid whose occupied cells each get a sphere covering an attached object [m].
+ATTACH_CELL_M = 0.02
 
 
 @dataclass(frozen=True)
@@ -100,7 +102,7 @@ class PlanningWorld:
 
     # ------------------------------------------------------------------ attached
     def attach(self, name: str, points_world: np.ndarray, T_world_tcp: np.ndarray,
-               cell_m: float = 0.02) -> int:
+               cell_m: float = ATTACH_CELL_M) -> int:
         """Attach what the hand holds: ``points_world`` (N, 3) of it at the TCP pose
         ``T_world_tcp``, covered by spheres (one per ``cell_m`` cell, each holding its cell's
         points). Removes the object ``name`` from the obstacles, and the environment points in
@@ -109,9 +111,7 @@ class PlanningWorld:
         pts = pts[np.all(np.isfinite(pts), axis=1)]
         if len(pts) == 0:
             return 0
-        model = self.planner.model
-        T_tcp_hand = np.linalg.inv(rm.flange_T_tcp(model)) @ _flange_T_hand(model)
-        T_world_hand = np.asarray(T_world_tcp, float) @ T_tcp_hand
+        T_world_hand = np.asarray(T_world_tcp, float) @ _tcp_T_hand(self.planner.model)
         local = (pts - T_world_hand[:3, 3]) @ T_world_hand[:3, :3]
         centres, radii = _cover(local, cell_m)
         self.planner.robot.attach(name, centres, radii)
@@ -156,6 +156,21 @@ class PlanningWorld:
             self._env_dirty = False
         else:
             self.planner.set_objects(boxes, tops, target)
+
+
+def held_spheres_in_tcp(model, points_tcp: np.ndarray, cell_m: float = ATTACH_CELL_M
+                        ) -> tuple[np.ndarray, np.ndarray]:
+    """The spheres :meth:`PlanningWorld.attach` covers a held object with, for its points
+    ``points_tcp`` (N, 3) in the TCP frame: centres (M, 3) in the TCP frame and radii (M,)."""
+    T = _tcp_T_hand(model)
+    pts = np.asarray(points_tcp, dtype=float).reshape(-1, 3)
+    centres, radii = _cover((pts - T[:3, 3]) @ T[:3, :3], cell_m)
+    return centres @ T[:3, :3].T + T[:3, 3], radii
+
+
+def _tcp_T_hand(model) -> np.ndarray:
+    """Pose of the hand body in the TCP frame."""
+    return np.linalg.inv(rm.flange_T_tcp(model)) @ _flange_T_hand(model)
 
 
 def _flange_T_hand(model) -> np.ndarray:

@@ -33,6 +33,7 @@ import numpy as np
 from ..exceptions import GraspPipelineError
 from ..motion.exceptions import MotionError
 from ..motion.occupancy import cleared_cell_m
+from ..motion.planning_world import held_spheres_in_tcp
 from ..motion.robot_spheres import hand_spheres_in_tcp
 from ..robot.description import GRIPPER_MAX_WIDTH_M
 from ..robot.protocols import ContactAllowance
@@ -89,8 +90,8 @@ def release_gap_m(action, out: GraspOutcome) -> float:
 
 
 def held_shape(action, out: GraspOutcome) -> HeldShape:
-    """The held object's points and the hand's planner spheres (fingers at the release gap),
-    in the TCP frame; without perceived points, a box between the fingers as deep as the
+    """The held object's points and the planner's spheres of it and of the hand (fingers at the
+    release gap), in the TCP frame; without perceived points, a box between the fingers as deep as the
     TCP stood above the table."""
     pts = action.held_points_tcp
     if pts is None or not len(pts):
@@ -100,8 +101,10 @@ def held_shape(action, out: GraspOutcome) -> HeldShape:
         X, Y, Z = np.meshgrid(0.04 * g, gap * g, depth * (g + 0.5))
         pts = np.c_[X.ravel(), Y.ravel(), Z.ravel()]
     planner = action.motion.planner
+    pts = np.asarray(pts, float)
+    oc, orad = held_spheres_in_tcp(planner.model, pts)
     c, r = hand_spheres_in_tcp(planner.model, planner.config.sphere_cell_m, release_gap_m(action, out))
-    return HeldShape(np.asarray(pts, float), c, r)
+    return HeldShape(pts, oc, orad, c, r)
 
 
 def _carry_up(action, out: GraspOutcome, plane_z_m: float):

@@ -8,7 +8,7 @@ requested for ``look_frames`` frames (at most ``look_timeout_s``). The perceptio
 their points (world frame). Over the cells of the tray's height map within ``arrived_search_m``
 of the released object's footprint (walls excepted), the object **arrived** when the points
 there rise more than ``seen_min_height_m`` above what was there before the release (the
-tray's contents as known then) over at least ``arrived_min_area_m2``. Where the look cannot
+tray's contents as known then, within a cell) over at least ``arrived_min_area_m2``. Where the look cannot
 see that region (out of view, no frame), nothing was seen arriving.
 """
 
@@ -19,6 +19,7 @@ from dataclasses import dataclass
 from typing import Optional
 
 import numpy as np
+from scipy import ndimage
 
 from ..exceptions import GraspPipelineError
 from ..motion.exceptions import MotionError
@@ -64,6 +65,8 @@ def arrival_verdict(grid: TrayGrid, before: np.ndarray, released: np.ndarray,
     if frac < MIN_SEEN_FRACTION:
         return ArrivalVerdict(False, 0.0, frac, f"the camera saw only {100 * frac:.0f} % of where "
                               "the object was released: its arrival in the tray is not confirmed")
+    # what stood within a cell of a point was there before (the models' edges are a cell coarse)
+    before = ndimage.maximum_filter(np.asarray(before, float), size=3)
     new = seen & (np.nan_to_num(seen_h, nan=0.0) > before + cfg.seen_min_height_m)
     area = float(np.count_nonzero(new)) * grid.cell_m ** 2
     if area >= cfg.arrived_min_area_m2:

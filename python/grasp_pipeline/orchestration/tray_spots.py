@@ -2,15 +2,15 @@
 and the hand, nearest the preferred one.
 
 The held object is known by its points in the TCP frame (what was perceived of it at the grasp)
-and the hand by the planner's spheres of the hand and the fingers in the TCP frame. The object
+and, like the hand and the fingers, by the planner's spheres of it in the TCP frame. The object
 keeps the attitude it was carried with; only the TCP's turn about the vertical (``rotations``)
 and the position change. At a spot, the object's bottom is released ``release_clearance_m``
 above the floor, which fixes how high every hand sphere then is. A spot (cell of the tray's
 ``spot_cell_m`` grid, the TCP above its centre) with one rotation is **free** when
 
-* every cell under the object (grown by ``spot_spacing_m``) lies on the tray floor, away from
-  the walls, and holds nothing higher than ``seen_min_height_m`` (the object goes onto the floor:
-  no stacking);
+* every cell under the object's spheres (grown by ``spot_spacing_m``) lies on the tray floor,
+  away from the walls, and holds nothing higher than ``seen_min_height_m`` (the object goes
+  onto the floor: no stacking);
 * under every hand sphere (grown by ``spot_spacing_m``), the walls and contents stay at least
   ``spot_spacing_m`` below the sphere; outside the tray the walls' height counts.
 
@@ -37,10 +37,13 @@ class TrayFull(GraspPipelineError):
 
 @dataclass(frozen=True)
 class HeldShape:
-    """The held object's points ``points_tcp`` (N, 3) and the hand's spheres (``hand_centres``
+    """The held object's points ``points_tcp`` (N, 3) and the planner's spheres of it
+    (``object_centres`` (M, 3), ``object_radii`` (M,)) and of the hand (``hand_centres``
     (S, 3), ``hand_radii`` (S,)), all in the TCP frame."""
 
     points_tcp: np.ndarray
+    object_centres: np.ndarray
+    object_radii: np.ndarray
     hand_centres: np.ndarray
     hand_radii: np.ndarray
 
@@ -86,9 +89,8 @@ def _stamp(shape: HeldShape, R: np.ndarray, axes: np.ndarray, cell_m: float, cfg
     the TCP rotation ``R`` needs: ``obj`` (K, 2) must be empty floor; ``hand`` (L, 2) with
     ``limits`` (L,): the highest content allowed there [m above the floor]."""
     R = np.asarray(R, float)
-    P = shape.points_tcp @ R.T
     s = cfg.spot_spacing_m
-    obj = _cells_near(P[:, :2] @ axes, np.zeros(len(P)), s, cell_m)
+    obj = _cells_near((shape.object_centres @ R.T)[:, :2] @ axes, shape.object_radii, s, cell_m)
     h_tcp = cfg.release_clearance_m + shape.bottom_m(R)
     C = shape.hand_centres @ R.T
     cells, limits = [], []
@@ -111,11 +113,6 @@ def _cells_near(xy: np.ndarray, r: np.ndarray, pad_m: float, cell_m: float) -> n
     hi = np.ceil((xy + r[:, None]).max(axis=0) / cell_m + 1 + reach / cell_m).astype(int)
     I, J = np.meshgrid(np.arange(lo[0], hi[0] + 1), np.arange(lo[1], hi[1] + 1), indexing="ij")
     off = np.c_[I.ravel(), J.ravel()]
-    if len(xy) > 64:  # an object's points: the nearest one decides
-        from scipy.spatial import cKDTree
-
-        d, _ = cKDTree(xy).query(off * cell_m, distance_upper_bound=reach + 1e-9)
-        return off[np.isfinite(d)]
     d = np.linalg.norm(off[:, None] * cell_m - xy[None], axis=2) - r[None]
     return off[np.min(d, axis=1) <= reach]
 

@@ -87,7 +87,7 @@ class FakeRobot:
     def scene_points(self) -> np.ndarray:
         """What the camera sees: the tray floor and the objects released over it."""
         cx, cy, half, z = TRAY_FLOOR
-        pts = [_box_points(cx, cy, 2.0 * half, 0.0, z, 0.01)]
+        pts = [_box_points(cx, cy, 2.0 * half, 0.0, z)]
         pts += [_box_points(x, y, w, h, z) for x, y, w, h in self.released]
         return np.vstack(pts)
 

@@ -1,0 +1,74 @@
+"""Where the held object goes: a free spot with room for it and the hand."""
+
+import numpy as np
+import pytest
+
+from grasp_pipeline.motion.planning_world import held_spheres_in_tcp
+from grasp_pipeline.motion.robot_spheres import hand_spheres_in_tcp
+from grasp_pipeline.orchestration.place import place_orientations
+from grasp_pipeline.orchestration.place_config import PlaceConfig
+from grasp_pipeline.orchestration.tray import TrayContents, TrayGeometry
+from grasp_pipeline.orchestration.tray_spots import (HeldShape, TrayFull, free_spots,
+                                                     preferred_positions)
+from grasp_pipeline.robot.description import load_robot_model
+
+from .tray_cell import CELL, FLOOR_Z, solid_points
+
+TOP_DOWN = np.array([[1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, -1.0]])  # approach down, closing y
+
+
+@pytest.fixture(scope="module")
+def cube_shape():
+    """A 5 cm cube held at its middle from above, fingers open to 7 cm."""
+    model = load_robot_model()
+    c, r = hand_spheres_in_tcp(model, 0.04, 0.07)
+    pts = solid_points(0.05, 0.05, 0.05)
+    return HeldShape(pts, *held_spheres_in_tcp(model, pts), c, r)
+
+
+def spots_for(tray, shape, k=0, cfg=PlaceConfig()):
+    return free_spots(tray, shape, place_orientations(TOP_DOWN), preferred_positions(tray.geometry, k, 0.055), cfg)
+
+
+def footprint_gap_m(a_xy, b_xy, half_a, half_b):
+    """Gap between two axis-aligned square footprints (negative: overlap)."""
+    return float(np.max(np.abs(np.asarray(a_xy) - b_xy)) - half_a - half_b)
+
+
+def test_the_first_object_goes_near_the_first_preferred_corner_inside_the_walls(cube_shape):
+    tray = TrayContents(TrayGeometry.from_work_cell(CELL), 0.005, 0.008)
+    spot = spots_for(tray, cube_shape)[0]
+    pref = preferred_positions(tray.geometry, 0, 0.055)[0]
+    assert np.linalg.norm(spot.xy - pref) <= 0.05
+    inner = 0.13  # inner faces of the walls from the centre
+    assert np.all(np.abs(spot.xy - [0.34, 0.58]) + 0.025 <= inner)
+    assert spot.rotations  # free with at least one turn of the hand
+
+
+def test_an_object_placed_where_a_previous_one_lies_goes_next_to_it(cube_shape):
+    tray = TrayContents(TrayGeometry.from_work_cell(CELL), 0.005, 0.008)
+    pref = preferred_positions(tray.geometry, 0, 0.055)[0]
+    tray.add_released(solid_points(0.05, 0.05, 0.05) + [pref[0], pref[1], FLOOR_Z + 0.03])
+    spot = spots_for(tray, cube_shape, k=0)[0]  # the same preferred position again
+    gap = footprint_gap_m(spot.xy, pref, 0.025, 0.025)
+    assert gap >= 0.005  # not on it: beside it, with room
+    assert np.linalg.norm(spot.xy - pref) <= 0.12  # next to it, not across the tray
+
+
+def test_a_full_tray_says_so(cube_shape):
+    tray = TrayContents(TrayGeometry.from_work_cell(CELL), 0.005, 0.008)
+    for x in np.arange(0.245, 0.45, 0.06):
+        for y in np.arange(0.485, 0.69, 0.06):
+            tray.add_released(solid_points(0.04, 0.04, 0.06) + [x, y, FLOOR_Z + 0.03])
+    with pytest.raises(TrayFull, match=r"the tray is full: no free spot for the held object \(50 x 50 x 50 mm\)"):
+        spots_for(tray, cube_shape)
+
+
+def test_alternative_spots_are_apart(cube_shape):
+    tray = TrayContents(TrayGeometry.from_work_cell(CELL), 0.005, 0.008)
+    cfg = PlaceConfig()
+    spots = spots_for(tray, cube_shape, cfg=cfg)
+    assert len(spots) == cfg.arrival_spots
+    for i, a in enumerate(spots):
+        for b in spots[i + 1:]:
+            assert np.linalg.norm(a.xy - b.xy) >= cfg.spot_separation_m - 1e-9
