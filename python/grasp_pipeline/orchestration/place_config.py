@@ -26,6 +26,7 @@ class PlaceConfig:
     spot_spacing_m: float = 0.005
     spot_separation_m: float = 0.03
     arrival_spots: int = 6
+    stack_max_m: float = 0.08
     look_height_m: float = 0.35
     look_frames: int = 2
     look_timeout_s: float = 1.0

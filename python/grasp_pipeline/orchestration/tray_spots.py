@@ -9,10 +9,13 @@ above the floor, which fixes how high every hand sphere then is. A spot (cell of
 ``spot_cell_m`` grid, the TCP above its centre) with one rotation is **free** when
 
 * every cell under the object's spheres (grown by ``spot_spacing_m``) lies on the tray floor,
-  away from the walls, and holds nothing higher than ``seen_min_height_m`` (the object goes
-  onto the floor: no stacking);
+  away from the walls, and holds nothing higher than ``seen_min_height_m``;
 * under every hand sphere (grown by ``spot_spacing_m``), the walls and contents stay at least
   ``spot_spacing_m`` below the sphere; outside the tray the walls' height counts.
+
+When the floor has no such spot left, the object goes onto what lies lowest in the tray (the
+same rules, released above the top of what is under it), if that is at most ``stack_max_m``
+high; else the tray is full: :class:`TrayFull`.
 
 Spots are ranked by their distance to the preferred position (the k-th of a 2 x 3 pattern for
 the k-th object: the first objects go where they always went); each kept spot is at least
@@ -22,6 +25,7 @@ No free spot at all: :class:`TrayFull`.
 
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass
 
 import numpy as np
@@ -29,6 +33,8 @@ import numpy as np
 from ..exceptions import GraspPipelineError
 from .place_config import PlaceConfig
 from .tray import TrayContents
+
+log = logging.getLogger("grasp_pipeline.grasp")
 
 
 class TrayFull(GraspPipelineError):
@@ -117,19 +123,49 @@ def _cells_near(xy: np.ndarray, r: np.ndarray, pad_m: float, cell_m: float) -> n
     return off[np.min(d, axis=1) <= reach]
 
 
-def _free_cells(grid, heights: np.ndarray, floor_ok: np.ndarray, stamp, rim_m: float) -> np.ndarray:
-    """(nu, nv) whether the TCP over each cell's centre has what ``stamp`` needs."""
+def _spot_cells(grid, contents_h: np.ndarray, heights: np.ndarray, inside: np.ndarray, stamp,
+                rim_m: float) -> tuple[np.ndarray, np.ndarray]:
+    """(ok, support), each (nu, nv), for the TCP over each cell's centre: whether the object
+    lies inside the walls and the hand clears the walls and contents with the object on what
+    is under it; the height of that (0: the floor)."""
     obj, hand, limits = stamp
     pad = int(max(np.abs(obj).max(initial=0), np.abs(hand).max(initial=0)))
     nu, nv = grid.shape
+    C = np.pad(contents_h, pad, constant_values=np.inf)
+    inside = np.pad(inside, pad, constant_values=False)
     H = np.pad(heights, pad, constant_values=rim_m)
-    F = np.pad(floor_ok, pad, constant_values=False)
     ok = np.ones((nu, nv), dtype=bool)
+    support = np.zeros((nu, nv))
     for du, dv in obj:
-        ok &= F[pad + du:pad + du + nu, pad + dv:pad + dv + nv]
+        ok &= inside[pad + du:pad + du + nu, pad + dv:pad + dv + nv]
+        support = np.maximum(support, C[pad + du:pad + du + nu, pad + dv:pad + dv + nv])
     for (du, dv), lim in zip(hand, limits):
-        ok &= H[pad + du:pad + du + nu, pad + dv:pad + dv + nv] <= lim
-    return ok
+        ok &= H[pad + du:pad + du + nu, pad + dv:pad + dv + nv] <= lim + support
+    return ok & np.isfinite(support), support
+
+
+def _free(contents: TrayContents, shape: HeldShape, rotations, cfg: PlaceConfig):
+    """(grid, free (R, nu, nv)): where the object and the hand fit with each rotation — on the
+    floor; only where none does, on what lies lowest in the tray (it is full)."""
+    grid = contents.geometry.grid(cfg.spot_cell_m)
+    contents_h = contents.heights(grid)
+    heights = np.maximum(contents_h, grid.wall_heights)
+    axes, rim = contents.geometry.axes, contents.geometry.rim_m
+    res = [_spot_cells(grid, contents_h, heights, ~grid.wall_mask(),
+                       _stamp(shape, R, axes, grid.cell_m, cfg), rim) for R in rotations]
+    ok, support = np.array([r[0] for r in res]), np.array([r[1] for r in res])
+    floor = ok & (support <= cfg.seen_min_height_m)
+    if np.any(floor):
+        return grid, floor
+    ok &= support <= cfg.stack_max_m
+    if not np.any(ok):
+        raise TrayFull(f"the tray is full: no room for the held object ({shape.size_mm()}) and "
+                       f"the hand, on the floor or on the {len(contents.objects)} object(s) in it "
+                       f"up to {cfg.stack_max_m * 1e3:.0f} mm high")
+    lowest = float(support[ok].min())
+    log.warning("the tray's floor has no room left for the held object (%s): it goes onto what "
+                "lies there, %.0f mm high", shape.size_mm(), lowest * 1e3)
+    return grid, ok & (support <= lowest + cfg.seen_min_height_m)
 
 
 def free_spots(contents: TrayContents, shape: HeldShape, rotations, preferred: list,
@@ -137,17 +173,8 @@ def free_spots(contents: TrayContents, shape: HeldShape, rotations, preferred: l
     """Up to ``arrival_spots`` free spots (module doc): the free spot nearest each of the
     ``preferred`` positions in turn, then the others nearest the first; :class:`TrayFull`
     when there is none."""
-    grid = contents.geometry.grid(cfg.spot_cell_m)
-    contents_h = contents.heights(grid)
-    floor_ok = (contents_h <= cfg.seen_min_height_m) & ~grid.wall_mask()
-    heights = np.maximum(contents_h, grid.wall_heights)
-    axes, rim = contents.geometry.axes, contents.geometry.rim_m
-    free = np.array([_free_cells(grid, heights, floor_ok, _stamp(shape, R, axes, grid.cell_m, cfg), rim)
-                     for R in rotations])
+    grid, free = _free(contents, shape, rotations, cfg)
     cells = np.argwhere(np.any(free, axis=0))
-    if len(cells) == 0:
-        raise TrayFull(f"the tray is full: no free spot for the held object ({shape.size_mm()}) "
-                       f"and the hand among the {len(contents.objects)} object(s) in it")
     xy = grid.centres()[cells[:, 0], cells[:, 1]]
     spots: list[Spot] = []
 

@@ -87,3 +87,20 @@ def test_lifting_the_held_object_clears_its_stray_environment_points(planner):
     assert f"{PERCEIVED_PREFIX}3" not in world.objects
     assert np.allclose(np.sort(world.environment, axis=0), np.sort(table, axis=0))
     world.detach()
+
+
+def test_the_held_spheres_in_the_tcp_frame_are_the_attached_ones(planner):
+    """What the tray's spot choice uses (held_spheres_in_tcp) is what the planner carries."""
+    from grasp_pipeline.motion.planning_world import held_spheres_in_tcp
+
+    world = PlanningWorld(planner)
+    q = np.array(rm.READY_Q, float)
+    T = planner.ik.fk_tcp(q)
+    pts = _held_points(T, depth=0.07)
+    world.attach("object/1", pts, T)
+    held = planner.robot.spheres.geom == planner.model.ngeom
+    attached = planner.robot.centres(q[None])[0][held]
+    c, r = held_spheres_in_tcp(planner.model, (pts - T[:3, 3]) @ T[:3, :3])
+    assert np.allclose(np.sort(c @ T[:3, :3].T + T[:3, 3], axis=0), np.sort(attached, axis=0), atol=1e-9)
+    assert np.allclose(np.sort(r), np.sort(planner.robot.spheres.radius[held]))
+    world.detach()

@@ -55,12 +55,20 @@ def test_an_object_placed_where_a_previous_one_lies_goes_next_to_it(cube_shape):
     assert np.linalg.norm(spot.xy - pref) <= 0.12  # next to it, not across the tray
 
 
-def test_a_full_tray_says_so(cube_shape):
+def test_a_tray_without_floor_room_takes_the_object_on_top_then_says_it_is_full(cube_shape):
     tray = TrayContents(TrayGeometry.from_work_cell(CELL), 0.005, 0.008)
     for x in np.arange(0.245, 0.45, 0.06):
         for y in np.arange(0.485, 0.69, 0.06):
-            tray.add_released(solid_points(0.04, 0.04, 0.06) + [x, y, FLOOR_Z + 0.03])
-    with pytest.raises(TrayFull, match=r"the tray is full: no free spot for the held object \(50 x 50 x 50 mm\)"):
+            tray.add_released(solid_points(0.05, 0.05, 0.02) + [x, y, FLOOR_Z + 0.03])
+    spot = spots_for(tray, cube_shape)[0]  # no floor left: on top of the flat ones
+    grid = tray.geometry.grid(0.01)
+    ij = grid.index(spot.xy[None])[0]
+    assert tray.heights(grid)[ij[0], ij[1]] == pytest.approx(0.02, abs=0.005)
+    tray = TrayContents(TrayGeometry.from_work_cell(CELL), 0.005, 0.008)
+    for x in np.arange(0.245, 0.45, 0.06):
+        for y in np.arange(0.485, 0.69, 0.06):
+            tray.add_released(solid_points(0.04, 0.04, 0.14) + [x, y, FLOOR_Z + 0.1])
+    with pytest.raises(TrayFull, match=r"the tray is full: no room for the held object \(50 x 50 x 50 mm\)"):
         spots_for(tray, cube_shape)
 
 
