@@ -185,6 +185,7 @@ class GraspAction:
 
     def _grasp(self, candidates: list, out: GraspOutcome):
         cfg, robot, motion = self.config, self.robot, self.motion
+        self.held_points_tcp = None
         target_tid, scene = self._set_scene(candidates[0])
         self._enter(out, GraspStage.PRE_GRASP)
         plan = self._plan(candidates)
