@@ -90,9 +90,9 @@ def release_gap_m(action, out: GraspOutcome) -> float:
 
 
 def held_shape(action, out: GraspOutcome) -> HeldShape:
-    """The held object's points and the planner's spheres of it and of the hand (fingers at the
-    release gap), in the TCP frame; without perceived points, a box between the fingers as deep as the
-    TCP stood above the table."""
+    """The held object's points and the planner's spheres of it and of the hand (fingers at
+    the release gap), in the TCP frame; without perceived points, a box between the fingers
+    as deep as the TCP stood above the table."""
     pts = action.held_points_tcp
     if pts is None or not len(pts):
         gap = max(out.stall_gap_m or 0.0, 0.01)

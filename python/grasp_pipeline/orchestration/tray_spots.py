@@ -86,7 +86,7 @@ def preferred_positions(geometry, k: int, inset_m: float) -> list:
     out = []
     for i in range(len(PATTERN)):
         a, b = PATTERN[(k + i) % len(PATTERN)]
-        out.append(geometry.center_xy + a * reach[0] * geometry.axes[:, 0] + b * reach[1] * geometry.axes[:, 1])
+        out.append(geometry.center_xy + geometry.axes @ (np.array([a, b]) * reach))
     return out
 
 

@@ -39,7 +39,8 @@ def carry(planner):
     """Two carry poses 0.4 m apart at z = 0.40 and a neighbour between them whose top (0.34)
     the empty hand passes above but a block hanging 0.12 m below the TCP does not."""
     world = PlanningWorld(planner)
-    world.add_object("placed/0", OrientedBox(np.array([0.5, 0.0, 0.27]), np.eye(3), np.array([0.12, 0.12, 0.14])))
+    neighbour = OrientedBox(np.array([0.5, 0.0, 0.27]), np.eye(3), np.array([0.12, 0.12, 0.14]))
+    world.add_object("placed/0", neighbour)
     world.commit()
     T_a, T_b = _tcp_down(0.5, -0.2, 0.40), _tcp_down(0.5, 0.2, 0.40)
     qa = planner.solve_ik(T_a, rm.READY_Q).q

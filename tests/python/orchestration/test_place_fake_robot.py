@@ -71,8 +71,8 @@ def test_a_lowering_stopped_high_by_the_planner_never_releases_there_and_fails_a
     motion.lines_blocked_below_z_m = FLOOR_Z + 0.10  # the bottom could not come below 75 mm
     out, motion, action, releases = run_place(robot, motion)
     assert not out.placed and out.failed_stage == "PLACE"
-    assert f"could not lower the object to within 30 mm of what lies under it at {CFG.lower_attempts} spot(s)" \
-        in out.message
+    assert ("could not lower the object to within 30 mm of what lies under it at "
+            f"{CFG.lower_attempts} spot(s)") in out.message
     assert [k for k, _ in motion.executed].count("place") == CFG.lower_attempts  # three spots tried
     assert "place_down" not in [k for k, _ in motion.executed]
     # the place never let go: only the recovery after the failure opens the fingers

@@ -27,7 +27,8 @@ def cube_shape():
 
 
 def spots_for(tray, shape, k=0, cfg=PlaceConfig()):
-    return free_spots(tray, shape, place_orientations(TOP_DOWN), preferred_positions(tray.geometry, k, 0.055), cfg)
+    preferred = preferred_positions(tray.geometry, k, 0.055)
+    return free_spots(tray, shape, place_orientations(TOP_DOWN), preferred, cfg)
 
 
 def footprint_gap_m(a_xy, b_xy, half_a, half_b):
