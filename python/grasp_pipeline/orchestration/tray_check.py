@@ -4,8 +4,9 @@ verdict "placed" needs the object seen there.
 After the release the hand goes up and the camera (on the hand, looking along the approach) is
 brought straight above the tray's centre, ``look_height_m`` above its floor (and at least
 :data:`MIN_RANGE_ABOVE_CONTENTS_M` above the tallest contents: the whole tray in view); frames are
-requested for ``look_frames`` frames (at most ``look_timeout_s``). The perception loop delivers
-their points (world frame). Over the cells of the tray's height map within ``arrived_search_m``
+requested for ``look_frames`` frames (at most ``look_timeout_s``); their points (world frame) come from
+the camera directly, and the perception loop keeps these frames out of its tracks
+(:meth:`~.perception_loop.PerceptionLoop.looking_elsewhere`). Over the cells of the tray's height map within ``arrived_search_m``
 of the released object's footprint (walls excepted), the object **arrived** when the points
 there rise more than ``seen_min_height_m`` above what was there before the release (the
 tray's contents as known then, within a cell) over at least ``arrived_min_area_m2``. Where the look cannot
@@ -121,16 +122,22 @@ def look_into_tray(action, at_xy, contents_top_m: float):
 
 
 def _frames_points(rt, robot, loop, cfg: PlaceConfig):
-    """Task: request frames until ``look_frames`` new ones arrived (or ``look_timeout_s``);
-    the points of those frames (None: none came)."""
-    seen, last = [], loop.frames
+    """Task: request frames until ``look_frames`` arrived (or ``look_timeout_s``); the points
+    of those frames (None: none came). The perception loop keeps them out of its tracks (they
+    show the tray, not the table)."""
+    seen: list = []
+
+    def listen(frame) -> None:
+        seen.append(np.asarray(frame.points_world, float).reshape(-1, 3))
+
     t_end = robot.time_s + cfg.look_timeout_s
-    with rt.looking():
-        while len(seen) < cfg.look_frames and robot.time_s < t_end:
-            yield
-            if loop.frames != last and loop.latest is not None:
-                last = loop.frames
-                seen.append(np.asarray(loop.latest.result.points, float).reshape(-1, 3))
+    robot.add_frame_listener(listen)
+    try:
+        with loop.looking_elsewhere(), rt.looking():
+            while len(seen) < cfg.look_frames and robot.time_s < t_end:
+                yield
+    finally:
+        robot.remove_frame_listener(listen)
     if not seen:
         log.warning("no camera frame while looking into the tray")
         return None

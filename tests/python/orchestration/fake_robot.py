@@ -276,13 +276,15 @@ class FakeMotion:
 
 class FakeLoop:
     """A perception loop stand-in: a locked table plane at z = 0.2 m, no tracks; the points of
-    the frames it gets (:meth:`on_frame`, a frame listener of the fake robot)."""
+    the frames it gets (:meth:`on_frame`, a frame listener of the fake robot) except while it
+    is told that the camera looks elsewhere."""
 
     def __init__(self) -> None:
         self.plane = SimpleNamespace(n=np.array([0.0, 0.0, 1.0]), c=-0.2, height_m=0.2)
         self.latest = None
         self.frames = 0
         self.selector = SimpleNamespace(best_grasp=None)
+        self.elsewhere = 0
 
     def tracks(self) -> list:
         return []
@@ -294,8 +296,18 @@ class FakeLoop:
         return False
 
     def on_frame(self, frame) -> None:
+        if self.elsewhere:
+            return
         self.latest = SimpleNamespace(result=SimpleNamespace(points=frame.points_world))
         self.frames += 1
+
+    @contextmanager
+    def looking_elsewhere(self):
+        self.elsewhere += 1
+        try:
+            yield
+        finally:
+            self.elsewhere -= 1
 
 
 def fake_loop(robot: FakeRobot | None = None) -> FakeLoop:
