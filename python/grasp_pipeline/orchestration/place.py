@@ -108,6 +108,9 @@ def held_shape(action, out: GraspOutcome) -> HeldShape:
 
 
 def _carry_up(action, out: GraspOutcome, plane_z_m: float):
+    """Task: straight up to ``carry_height_m`` above the table (a joint-space motion to that
+    pose when the line cannot be followed); when that pose is out of reach, the carry starts
+    from where the arm is — the planner knows the held object."""
     cfg, robot, motion = action.place_config, action.robot, action.motion
     T_up = robot.tcp_pose().copy()
     if T_up[2, 3] >= plane_z_m + cfg.carry_height_m:
@@ -116,14 +119,19 @@ def _carry_up(action, out: GraspOutcome, plane_z_m: float):
     try:
         yield from action.carrying(motion.line(T_up, kind="carry_up", allow_target_contact=True,
                                                allowance=HELD), out, "PLACE")
+        return
     except ObjectDropped:
         raise
     except GraspPipelineError as exc:  # e.g. a wrist joint near a singularity on the line
         log.warning("carry_up line not plannable (%s); planning a joint-space motion to the "
                     "same pose instead", exc)
         motion.sync()
-        yield from action.carrying(motion.to_pose(T_up, frame="tcp", kind="carry_up",
-                                                  allowance=HELD), out, "PLACE")
+    try:
+        traj = motion.plan_pose(T_up)
+    except MotionError as exc:  # e.g. far from the base, a tilted grasp's pose up there
+        log.warning("the pose above the grasp is out of reach (%s); carrying from here", exc)
+        return
+    yield from action.carrying(motion.execute("carry_up", traj, HELD), out, "PLACE")
 
 
 def _support_z_m(tray: TrayContents, shape: HeldShape, T: np.ndarray) -> float:

@@ -108,3 +108,22 @@ def test_an_object_not_seen_in_the_tray_after_the_release_fails_place():
     assert "the object is not seen in the tray" in out.message
     # it was released low; the look found nothing there (the recovery opens fully afterwards)
     assert bottom_above_floor_m(releases[0], action) == pytest.approx(CFG.release_clearance_m, abs=1e-6)
+
+
+def test_a_carry_up_out_of_reach_carries_from_where_the_arm_is():
+    robot = FakeRobot(object_width_m=0.05)
+    motion = FakeMotion(robot)
+    motion.refused_lines.add("carry_up")
+
+    def unreachable_above_the_table(T, q_from=None, frame="tcp"):
+        from grasp_pipeline.motion.exceptions import UnreachablePoseError
+        from .fake_robot import FakeTrajectory
+
+        if T[1, 3] < 0.3:  # over the table: out of reach up there (fake)
+            raise UnreachablePoseError("pose unreachable (fake)")
+        return FakeTrajectory(np.asarray(T))
+
+    motion.plan_pose = unreachable_above_the_table
+    out, motion, action, releases = run_place(robot, motion)
+    assert out.success and out.placed, out.message
+    assert "carry_up" not in [k for k, _ in motion.executed]
