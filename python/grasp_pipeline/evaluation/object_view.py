@@ -18,8 +18,9 @@ from ..sim.ground_truth import object_truths
 
 #: An object this near the tray centre [m] is shown together with the tray.
 TRAY_NEAR_M = 0.6
-#: The view: from the robot's far side, looking down.
-AZIMUTH_DEG, ELEVATION_DEG = 200.0, -55.0
+#: The view: from above, a little from the far side of the table (steep enough that the
+#: camera stays in front of the wall behind the table).
+AZIMUTH_DEG, ELEVATION_DEG = 180.0, -75.0
 CLOSE_DISTANCE_M = 0.5
 
 
@@ -32,7 +33,7 @@ def view_of(world, name: Optional[str]) -> Optional[dict]:
     tray = world.work_cell.tray_center_m
     if tray is not None and float(np.linalg.norm(pos - tray)) <= TRAY_NEAR_M:
         lookat = 0.5 * (pos + np.asarray(tray, float))
-        distance = max(CLOSE_DISTANCE_M + 0.2, 1.6 * float(np.linalg.norm(pos - tray)) + 0.4)
+        distance = max(CLOSE_DISTANCE_M + 0.2, 1.3 * float(np.linalg.norm(pos - tray)) + 0.45)
     else:
         lookat, distance = pos, CLOSE_DISTANCE_M
     return {"lookat_m": lookat, "distance_m": distance, "azimuth_deg": AZIMUTH_DEG,
