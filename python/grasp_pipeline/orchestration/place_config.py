@@ -22,7 +22,7 @@ class PlaceConfig:
     lower_backoff_m: float = 0.03
     slot_dx_m: float = 0.05
     slot_dy_m: float = 0.08
-    spot_cell_m: float = 0.01
+    spot_cell_m: float = 0.005
     spot_spacing_m: float = 0.005
     spot_separation_m: float = 0.03
     arrival_spots: int = 6

@@ -13,9 +13,10 @@ above the floor, which fixes how high every hand sphere then is. A spot (cell of
 * under every hand sphere (grown by ``spot_spacing_m``), the walls and contents stay at least
   ``spot_spacing_m`` below the sphere; outside the tray the walls' height counts.
 
-When the floor has no such spot left, the object goes onto what lies lowest in the tray (the
-same rules, released above the top of what is under it), if that is at most ``stack_max_m``
-high; else the tray is full: :class:`TrayFull`.
+Where the floor has too few such spots (none left, or the arm cannot reach them), the object
+may go onto what lies lowest in the tray (the same rules, released above the top of what is
+under it), if that is at most ``stack_max_m`` high; with no spot at all the tray is full:
+:class:`TrayFull`.
 
 Spots are ranked by their distance to the preferred position (the k-th of a 2 x 3 pattern for
 the k-th object: the first objects go where they always went); each kept spot is at least
@@ -145,8 +146,9 @@ def _spot_cells(grid, contents_h: np.ndarray, heights: np.ndarray, inside: np.nd
 
 
 def _free(contents: TrayContents, shape: HeldShape, rotations, cfg: PlaceConfig):
-    """(grid, free (R, nu, nv)): where the object and the hand fit with each rotation — on the
-    floor; only where none does, on what lies lowest in the tray (it is full)."""
+    """(grid, [floor (R, nu, nv), on top (R, nu, nv)]): where the object and the hand fit with
+    each rotation — on the floor; on what lies lowest in the tray (at most ``stack_max_m``
+    high), for when no floor spot can be reached or there is none left."""
     grid = contents.geometry.grid(cfg.spot_cell_m)
     contents_h = contents.heights(grid)
     heights = np.maximum(contents_h, grid.wall_heights)
@@ -155,42 +157,46 @@ def _free(contents: TrayContents, shape: HeldShape, rotations, cfg: PlaceConfig)
                        _stamp(shape, R, axes, grid.cell_m, cfg), rim) for R in rotations]
     ok, support = np.array([r[0] for r in res]), np.array([r[1] for r in res])
     floor = ok & (support <= cfg.seen_min_height_m)
-    if np.any(floor):
-        return grid, floor
-    ok &= support <= cfg.stack_max_m
-    if not np.any(ok):
+    on_top = ok & ~floor & (support <= cfg.stack_max_m)
+    if np.any(on_top):
+        on_top &= support <= float(support[on_top].min()) + cfg.seen_min_height_m
+    if not np.any(floor | on_top):
         raise TrayFull(f"the tray is full: no room for the held object ({shape.size_mm()}) and "
                        f"the hand, on the floor or on the {len(contents.objects)} object(s) in it "
                        f"up to {cfg.stack_max_m * 1e3:.0f} mm high")
-    lowest = float(support[ok].min())
-    log.warning("the tray's floor has no room left for the held object (%s): it goes onto what "
-                "lies there, %.0f mm high", shape.size_mm(), lowest * 1e3)
-    return grid, ok & (support <= lowest + cfg.seen_min_height_m)
+    if not np.any(floor):
+        log.warning("the tray's floor has no room left for the held object (%s): it goes onto "
+                    "what lies there, %.0f mm high", shape.size_mm(),
+                    float(support[on_top].min()) * 1e3)
+    return grid, [floor, on_top]
 
 
 def free_spots(contents: TrayContents, shape: HeldShape, rotations, preferred: list,
                cfg: PlaceConfig) -> list[Spot]:
-    """Up to ``arrival_spots`` free spots (module doc): the free spot nearest each of the
-    ``preferred`` positions in turn, then the others nearest the first; :class:`TrayFull`
-    when there is none."""
-    grid, free = _free(contents, shape, rotations, cfg)
+    """Up to ``arrival_spots`` free spots (module doc): the floor's spot nearest each of the
+    ``preferred`` positions in turn, then its others nearest the first; then the same on what
+    lies lowest in the tray; :class:`TrayFull` when there is none."""
+    grid, layers = _free(contents, shape, rotations, cfg)
+    spots: list[Spot] = []
+    for free in layers:
+        for p in preferred:  # the nearest free spot to each preferred position ...
+            _add_spots(spots, grid, free, rotations, p, 1, cfg)
+        _add_spots(spots, grid, free, rotations, preferred[0], cfg.arrival_spots, cfg)  # ... then any
+    return spots
+
+
+def _add_spots(spots: list, grid, free: np.ndarray, rotations, near, n: int, cfg: PlaceConfig) -> None:
+    """Add up to ``n`` spots of ``free`` (R, nu, nv), nearest ``near`` first, each at least
+    ``spot_separation_m`` from those in ``spots``, until there are ``arrival_spots``."""
     cells = np.argwhere(np.any(free, axis=0))
     xy = grid.centres()[cells[:, 0], cells[:, 1]]
-    spots: list[Spot] = []
-
-    def take(p, one: bool) -> None:
-        dist = np.linalg.norm(xy - np.asarray(p)[:2], axis=1)
-        for k in np.argsort(dist, kind="stable"):
-            if len(spots) >= cfg.arrival_spots:
-                return
-            if all(np.linalg.norm(xy[k] - s.xy) >= cfg.spot_separation_m for s in spots):
-                i, j = cells[k]
-                spots.append(Spot(xy[k].copy(), tuple(R for R, f in zip(rotations, free) if f[i, j]),
-                                  float(dist[k])))
-                if one:
-                    return
-
-    for p in preferred:  # the nearest free spot to each preferred position ...
-        take(p, one=True)
-    take(preferred[0], one=False)  # ... then any, nearest the first
-    return spots
+    dist = np.linalg.norm(xy - np.asarray(near)[:2], axis=1)
+    added = 0
+    for k in np.argsort(dist, kind="stable"):
+        if len(spots) >= cfg.arrival_spots or added >= n:
+            return
+        if all(np.linalg.norm(xy[k] - s.xy) >= cfg.spot_separation_m for s in spots):
+            i, j = cells[k]
+            spots.append(Spot(xy[k].copy(), tuple(R for R, f in zip(rotations, free) if f[i, j]),
+                              float(dist[k])))
+            added += 1

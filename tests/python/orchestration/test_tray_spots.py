@@ -8,7 +8,7 @@ from grasp_pipeline.motion.robot_spheres import hand_spheres_in_tcp
 from grasp_pipeline.orchestration.place import place_orientations
 from grasp_pipeline.orchestration.place_config import PlaceConfig
 from grasp_pipeline.orchestration.tray import TrayContents, TrayGeometry
-from grasp_pipeline.orchestration.tray_spots import (HeldShape, TrayFull, free_spots,
+from grasp_pipeline.orchestration.tray_spots import (HeldShape, TrayFull, _free, free_spots,
                                                      preferred_positions)
 from grasp_pipeline.robot.description import load_robot_model
 
@@ -71,6 +71,23 @@ def test_a_tray_without_floor_room_takes_the_object_on_top_then_says_it_is_full(
             tray.add_released(solid_points(0.04, 0.04, 0.14) + [x, y, FLOOR_Z + 0.1])
     with pytest.raises(TrayFull, match=r"the tray is full: no room for the held object \(50 x 50 x 50 mm\)"):
         spots_for(tray, cube_shape)
+
+
+def test_after_the_floor_spots_come_spots_on_what_lies_lowest(cube_shape):
+    """When the floor has fewer spots than the arm may need (one may be out of reach), the
+    list goes on with spots on top of what lies lowest in the tray."""
+    tray = TrayContents(TrayGeometry.from_work_cell(CELL), 0.005, 0.008)
+    centres = [(x, y) for x in np.arange(0.245, 0.45, 0.06) for y in np.arange(0.485, 0.69, 0.06)]
+    gap = [centres[k] for k in (0, 1, 4, 5)]  # one corner's 2 x 2 left empty
+    for x, y in centres:
+        if (x, y) not in gap:
+            tray.add_released(solid_points(0.05, 0.05, 0.02) + [x, y, FLOOR_Z + 0.03])
+    spots = spots_for(tray, cube_shape)
+    grid, (floor, on_top) = _free(tray, cube_shape, place_orientations(TOP_DOWN), PlaceConfig())
+    layer = ["floor" if np.any(floor[(slice(None), *grid.index(s.xy[None])[0])]) else
+             "on top" if np.any(on_top[(slice(None), *grid.index(s.xy[None])[0])]) else "?" for s in spots]
+    assert layer[0] == "floor" and np.linalg.norm(spots[0].xy - np.mean(gap, axis=0)) <= 0.03
+    assert "?" not in layer and layer == sorted(layer) and layer[-1] == "on top"  # floor first, then on top
 
 
 def test_alternative_spots_are_apart(cube_shape):
