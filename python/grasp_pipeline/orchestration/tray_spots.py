@@ -14,9 +14,9 @@ above the floor, which fixes how high every hand sphere then is. A spot (cell of
   ``spot_spacing_m`` below the sphere; outside the tray the walls' height counts.
 
 Where the floor has too few such spots (none left, or the arm cannot reach them), the object
-may go onto what lies lowest in the tray (the same rules, released above the top of what is
-under it), if that is at most ``stack_max_m`` high; with no spot at all the tray is full:
-:class:`TrayFull`.
+may go onto what lies in the tray, lowest first (the same rules, released above the top of
+what is under it), if that is at most ``stack_max_m`` high; with no spot at all the tray is
+full: :class:`TrayFull`.
 
 Spots are ranked by their distance to the preferred position (the k-th of a 2 x 3 pattern for
 the k-th object: the first objects go where they always went); each kept spot is at least
@@ -146,9 +146,9 @@ def _spot_cells(grid, contents_h: np.ndarray, heights: np.ndarray, inside: np.nd
 
 
 def _free(contents: TrayContents, shape: HeldShape, rotations, cfg: PlaceConfig):
-    """(grid, [floor (R, nu, nv), on top (R, nu, nv)]): where the object and the hand fit with
-    each rotation — on the floor; on what lies lowest in the tray (at most ``stack_max_m``
-    high), for when no floor spot can be reached or there is none left."""
+    """(grid, [floor, on the lowest, on the others], each (R, nu, nv)): where the object and
+    the hand fit with each rotation — on the floor; on what lies lowest in the tray, then on
+    the rest up to ``stack_max_m`` high, for when no floor spot can be reached or none is left."""
     grid = contents.geometry.grid(cfg.spot_cell_m)
     contents_h = contents.heights(grid)
     heights = np.maximum(contents_h, grid.wall_heights)
@@ -158,8 +158,7 @@ def _free(contents: TrayContents, shape: HeldShape, rotations, cfg: PlaceConfig)
     ok, support = np.array([r[0] for r in res]), np.array([r[1] for r in res])
     floor = ok & (support <= cfg.seen_min_height_m)
     on_top = ok & ~floor & (support <= cfg.stack_max_m)
-    if np.any(on_top):
-        on_top &= support <= float(support[on_top].min()) + cfg.seen_min_height_m
+    lowest = on_top & (support <= float(support[on_top].min(initial=0.0)) + cfg.seen_min_height_m)
     if not np.any(floor | on_top):
         raise TrayFull(f"the tray is full: no room for the held object ({shape.size_mm()}) and "
                        f"the hand, on the floor or on the {len(contents.objects)} object(s) in it "
@@ -168,14 +167,14 @@ def _free(contents: TrayContents, shape: HeldShape, rotations, cfg: PlaceConfig)
         log.warning("the tray's floor has no room left for the held object (%s): it goes onto "
                     "what lies there, %.0f mm high", shape.size_mm(),
                     float(support[on_top].min()) * 1e3)
-    return grid, [floor, on_top]
+    return grid, [floor, lowest, on_top & ~lowest]
 
 
 def free_spots(contents: TrayContents, shape: HeldShape, rotations, preferred: list,
                cfg: PlaceConfig) -> list[Spot]:
     """Up to ``arrival_spots`` free spots (module doc): the floor's spot nearest each of the
     ``preferred`` positions in turn, then its others nearest the first; then the same on what
-    lies lowest in the tray; :class:`TrayFull` when there is none."""
+    lies in the tray, lowest first; :class:`TrayFull` when there is none."""
     grid, layers = _free(contents, shape, rotations, cfg)
     spots: list[Spot] = []
     for free in layers:
