@@ -9,7 +9,8 @@ above the floor, which fixes how high every hand sphere then is. A spot (cell of
 ``spot_cell_m`` grid, the TCP above its centre) with one rotation is **free** when
 
 * every cell under the object's spheres (grown by ``spot_spacing_m``) lies on the tray floor,
-  away from the walls, and holds nothing higher than ``seen_min_height_m``;
+  away from the walls, and holds nothing higher than ``seen_min_height_m`` above what lies
+  under the object's points (the floor: nothing; see below for what lies in the tray);
 * under every hand sphere (grown by ``spot_spacing_m``), the walls and contents stay at least
   ``spot_spacing_m`` below the sphere; outside the tray the walls' height counts.
 
@@ -18,10 +19,9 @@ may go onto what lies in the tray, lowest first (the same rules, released above 
 what is under it), if that is at most ``stack_max_m`` high; with no spot at all the tray is
 full: :class:`TrayFull`.
 
-Spots are ranked by their distance to the preferred position (the k-th of a 2 x 3 pattern for
-the k-th object: the first objects go where they always went); each kept spot is at least
+Spots are ranked by their distance to the preferred positions (:func:`preferred_positions`:
+corners first, the k-th object starting at the k-th); each kept spot is at least
 ``spot_separation_m`` from the spots before it, with its free rotations in their given order.
-No free spot at all: :class:`TrayFull`.
 """
 
 from __future__ import annotations
@@ -93,11 +93,13 @@ def preferred_positions(geometry, k: int, inset_m: float) -> list:
 
 def _stamp(shape: HeldShape, R: np.ndarray, axes: np.ndarray, cell_m: float, cfg: PlaceConfig):
     """The cells around the TCP's cell (offsets in the tray grid's axes ``axes``) a spot with
-    the TCP rotation ``R`` needs: ``obj`` (K, 2) must be empty floor; ``hand`` (L, 2) with
-    ``limits`` (L,): the highest content allowed there [m above the floor]."""
+    the TCP rotation ``R`` needs: ``obj`` (K, 2) under the object's spheres (grown by the
+    spacing); ``under`` (J, 2) under its points (what it will stand on); ``hand`` (L, 2) with
+    ``limits`` (L,): the highest content allowed there with the object on the floor [m]."""
     R = np.asarray(R, float)
     s = cfg.spot_spacing_m
     obj = _cells_near((shape.object_centres @ R.T)[:, :2] @ axes, shape.object_radii, s, cell_m)
+    under = np.unique(np.floor((shape.points_tcp @ R.T)[:, :2] @ axes / cell_m + 0.5).astype(int), axis=0)
     h_tcp = cfg.release_clearance_m + shape.bottom_m(R)
     C = shape.hand_centres @ R.T
     cells, limits = [], []
@@ -109,7 +111,7 @@ def _stamp(shape: HeldShape, R: np.ndarray, axes: np.ndarray, cell_m: float, cfg
     order = np.lexsort((limits, cells[:, 1], cells[:, 0]))
     cells, limits = cells[order], limits[order]
     first = np.r_[True, np.any(cells[1:] != cells[:-1], axis=1)]
-    return obj, cells[first], limits[first]  # the lowest limit of each cell
+    return obj, under, cells[first], limits[first]  # the lowest limit of each cell
 
 
 def _cells_near(xy: np.ndarray, r: np.ndarray, pad_m: float, cell_m: float) -> np.ndarray:
@@ -125,24 +127,33 @@ def _cells_near(xy: np.ndarray, r: np.ndarray, pad_m: float, cell_m: float) -> n
 
 
 def _spot_cells(grid, contents_h: np.ndarray, heights: np.ndarray, inside: np.ndarray, stamp,
-                rim_m: float) -> tuple[np.ndarray, np.ndarray]:
+                rim_m: float, tolerance_m: float) -> tuple[np.ndarray, np.ndarray]:
     """(ok, support), each (nu, nv), for the TCP over each cell's centre: whether the object
-    lies inside the walls and the hand clears the walls and contents with the object on what
-    is under it; the height of that (0: the floor)."""
-    obj, hand, limits = stamp
+    lies inside the walls, rests on the highest thing under its spheres (nothing beside it
+    stands higher than what it stands on, give or take ``tolerance_m``) and the hand clears
+    the walls and contents with the object on it; the height of what it stands on (0: the
+    floor)."""
+    obj, under, hand, limits = stamp
     pad = int(max(np.abs(obj).max(initial=0), np.abs(hand).max(initial=0)))
     nu, nv = grid.shape
+
+    def shifted(a, du, dv):
+        return a[pad + du:pad + du + nu, pad + dv:pad + dv + nv]
+
     C = np.pad(contents_h, pad, constant_values=np.inf)
     inside = np.pad(inside, pad, constant_values=False)
     H = np.pad(heights, pad, constant_values=rim_m)
     ok = np.ones((nu, nv), dtype=bool)
-    support = np.zeros((nu, nv))
+    around, support = np.zeros((nu, nv)), np.zeros((nu, nv))
     for du, dv in obj:
-        ok &= inside[pad + du:pad + du + nu, pad + dv:pad + dv + nv]
-        support = np.maximum(support, C[pad + du:pad + du + nu, pad + dv:pad + dv + nv])
+        ok &= shifted(inside, du, dv)
+        around = np.maximum(around, shifted(C, du, dv))
+    for du, dv in under:
+        support = np.maximum(support, shifted(C, du, dv))
+    ok &= np.isfinite(around) & (around <= support + tolerance_m)
     for (du, dv), lim in zip(hand, limits):
-        ok &= H[pad + du:pad + du + nu, pad + dv:pad + dv + nv] <= lim + support
-    return ok & np.isfinite(support), support
+        ok &= shifted(H, du, dv) <= lim + support
+    return ok, support
 
 
 def _free(contents: TrayContents, shape: HeldShape, rotations, cfg: PlaceConfig):
@@ -154,7 +165,8 @@ def _free(contents: TrayContents, shape: HeldShape, rotations, cfg: PlaceConfig)
     heights = np.maximum(contents_h, grid.wall_heights)
     axes, rim = contents.geometry.axes, contents.geometry.rim_m
     res = [_spot_cells(grid, contents_h, heights, ~grid.wall_mask(),
-                       _stamp(shape, R, axes, grid.cell_m, cfg), rim) for R in rotations]
+                       _stamp(shape, R, axes, grid.cell_m, cfg), rim, cfg.seen_min_height_m)
+           for R in rotations]
     ok, support = np.array([r[0] for r in res]), np.array([r[1] for r in res])
     floor = ok & (support <= cfg.seen_min_height_m)
     on_top = ok & ~floor & (support <= cfg.stack_max_m)

@@ -8,8 +8,8 @@ from grasp_pipeline.motion.robot_spheres import hand_spheres_in_tcp
 from grasp_pipeline.orchestration.place import place_orientations
 from grasp_pipeline.orchestration.place_config import PlaceConfig
 from grasp_pipeline.orchestration.tray import TrayContents, TrayGeometry
-from grasp_pipeline.orchestration.tray_spots import (HeldShape, TrayFull, _free, free_spots,
-                                                     preferred_positions)
+from grasp_pipeline.orchestration.tray_spots import (HeldShape, TrayFull, _free, _spot_cells,
+                                                     free_spots, preferred_positions)
 from grasp_pipeline.robot.description import load_robot_model
 
 from .tray_cell import CELL, FLOOR_Z, solid_points
@@ -89,6 +89,40 @@ def test_after_the_floor_spots_come_spots_on_what_lies_lowest(cube_shape):
              "on top" if np.any(on_top[(slice(None), *grid.index(s.xy[None])[0])]) else "?" for s in spots]
     assert layer[0] == "floor" and np.linalg.norm(spots[0].xy - np.mean(gap, axis=0)) <= 0.03
     assert "?" not in layer and layer == sorted(layer) and layer[-1] == "on top"  # floor first, then on top
+
+
+def test_at_every_spot_the_hand_clears_what_lies_in_the_tray_at_the_release_height(cube_shape):
+    """Checked sphere by sphere against the contents' column tops, with the object standing on
+    what lies under its points — as the lowering will aim."""
+    tray = TrayContents(TrayGeometry.from_work_cell(CELL), 0.005, 0.008)
+    for x in (0.23, 0.34, 0.45):  # 6 cm blocks with 6 cm gaps: the cube fits a gap, not its hand
+        for y in (0.47, 0.58, 0.69):
+            tray.add_released(solid_points(0.05, 0.05, 0.06) + [x, y, FLOOR_Z + 0.05])
+    tops = np.vstack([o.tops for o in tray.objects.values()])
+    cfg = PlaceConfig()
+    for spot in spots_for(tray, cube_shape):
+        for R in spot.rotations:
+            pts = cube_shape.points_tcp @ R.T + [*spot.xy, 0.0]
+            below = tops[np.min(np.linalg.norm(tops[:, None, :2] - pts[None, :, :2], axis=2), axis=1) < 0.005]
+            support = float(below[:, 2].max()) if len(below) else FLOOR_Z
+            z_tcp = support + cfg.release_clearance_m + cube_shape.bottom_m(R)
+            for c, r in zip(cube_shape.hand_centres @ R.T, cube_shape.hand_radii):
+                near = tops[np.linalg.norm(tops[:, :2] - (spot.xy + c[:2]), axis=1) <= r]
+                if len(near):
+                    assert near[:, 2].max() + 0.0025 < z_tcp + c[2] - r, (spot.xy, c)
+
+
+def test_an_object_rests_on_the_highest_thing_under_its_spheres_or_the_spot_is_not_free():
+    """Standing on the floor with a neighbour under the edge of its spheres would release it
+    beside that neighbour (lower than the hand was checked for): not a spot; on the neighbour,
+    it is one, standing that high."""
+    grid = TrayGeometry.from_work_cell(CELL).grid(0.01)
+    contents = np.zeros(grid.shape)
+    contents[10, 11] = 0.05
+    ring = np.array([(i, j) for i in (-1, 0, 1) for j in (-1, 0, 1)])
+    stamp = (ring, np.array([[0, 0]]), np.zeros((0, 2), dtype=int), np.zeros(0))
+    ok, support = _spot_cells(grid, contents, contents, np.ones(grid.shape, bool), stamp, 0.03, 0.008)
+    assert not ok[10, 10] and ok[10, 11] and support[10, 11] == 0.05 and ok[10, 13]
 
 
 def test_alternative_spots_are_apart(cube_shape):
