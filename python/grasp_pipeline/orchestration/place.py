@@ -311,7 +311,8 @@ def _check_arrival(action, released_world: np.ndarray, spot: Spot):
         footprint[tuple(np.clip(ij, 0, np.array(grid.shape) - 1))] = True
     top = float(tray.heights(grid).max())
     points = yield from look_into_tray(action, tray.geometry.center_xy, top)
-    verdict = arrival_verdict(grid, before, footprint, points, action.place_config)
+    top = float(obj.tops[:, 2].max()) + 0.5 * tray.cell_m - tray.geometry.floor_z_m
+    verdict = arrival_verdict(grid, before, footprint, top, points, action.place_config)
     if points is not None:
         _sync_obstacles(action, tray.update_from_look(points))
     log.info("tray look after placing %s: %s", obj.name, verdict.message)

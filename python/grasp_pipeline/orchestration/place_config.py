@@ -33,6 +33,7 @@ class PlaceConfig:
     seen_min_height_m: float = 0.008
     arrived_min_area_m2: float = 0.0002
     arrived_search_m: float = 0.05
+    arrived_max_above_m: float = 0.03
 
     def validate(self) -> None:
         for f in fields(self):

@@ -9,7 +9,9 @@ the camera directly, and the perception loop keeps these frames out of its track
 (:meth:`~.perception_loop.PerceptionLoop.looking_elsewhere`). Over the cells of the tray's height map within ``arrived_search_m``
 of the released object's footprint (walls excepted), the object **arrived** when the points
 there rise more than ``seen_min_height_m`` above what was there before the release (the
-tray's contents as known then, within a cell) over at least ``arrived_min_area_m2``. Where the look cannot
+tray's contents as known then, within a cell) over at least ``arrived_min_area_m2`` — and no
+more than ``arrived_max_above_m`` above the released object's top (higher points are not
+it lying in the tray: e.g. it hangs on a finger). Where the look cannot
 see that region (out of view, no frame), nothing was seen arriving.
 """
 
@@ -53,11 +55,11 @@ class ArrivalVerdict:
     message: str
 
 
-def arrival_verdict(grid: TrayGrid, before: np.ndarray, released: np.ndarray,
+def arrival_verdict(grid: TrayGrid, before: np.ndarray, released: np.ndarray, top_m: float,
                     points_world: Optional[np.ndarray], cfg: PlaceConfig) -> ArrivalVerdict:
     """The verdict (module doc) from the look's points; ``before`` (nu, nv): the contents'
     heights above the floor before the release; ``released`` (nu, nv): the cells under the
-    released object."""
+    released object; ``top_m``: its top above the floor as released."""
     region = grid.dilate(released, cfg.arrived_search_m) & ~grid.wall_mask()
     n_region = max(1, int(np.count_nonzero(region)))
     seen_h = grid.heights(np.zeros((0, 3)) if points_world is None else points_world)
@@ -68,7 +70,8 @@ def arrival_verdict(grid: TrayGrid, before: np.ndarray, released: np.ndarray,
                               "the object was released: its arrival in the tray is not confirmed")
     # what stood within a cell of a point was there before (the models' edges are a cell coarse)
     before = ndimage.maximum_filter(np.asarray(before, float), size=3)
-    new = seen & (np.nan_to_num(seen_h, nan=0.0) > before + cfg.seen_min_height_m)
+    h = np.nan_to_num(seen_h, nan=0.0)
+    new = seen & (h > before + cfg.seen_min_height_m) & (h <= top_m + cfg.arrived_max_above_m)
     area = float(np.count_nonzero(new)) * grid.cell_m ** 2
     if area >= cfg.arrived_min_area_m2:
         return ArrivalVerdict(True, area, frac, f"seen in the tray ({area * 1e4:.1f} cm2 new)")
