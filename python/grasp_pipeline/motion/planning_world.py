@@ -139,6 +139,27 @@ class PlanningWorld:
         """Release what the hand holds (its spheres leave the hand); returns its name."""
         return self.planner.robot.detach()
 
+    def trim_attached(self, q: np.ndarray) -> int:
+        """Drop the attached spheres that lie within an obstacle's clearance with the arm at
+        ``q`` while the hand holds the object free of it (lifted): those parts of its model
+        were filled in under what was seen — e.g. down through the object it lay on in a pile.
+        Returns how many were dropped (call :meth:`commit` after)."""
+        robot, v = self.planner.robot, self.planner.validator
+        if robot.attached_name is None:
+            return 0
+        _, _, env, box, floor, _ = v._components(np.asarray(q, float)[None])
+        inside = np.zeros(len(robot.spheres.radius), dtype=bool)
+        inside[v._env_idx] = (env[0] < 0) | (box[0] < 0) | (floor[0] < 0)
+        held = robot.spheres.geom == self.planner.model.ngeom
+        if not np.any(inside & held):
+            return 0
+        keep = held & ~inside
+        name, sph = robot.attached_name, robot.spheres
+        robot.detach()
+        if np.any(keep):
+            robot.attach(name, sph.center_local[keep], sph.radius[keep])
+        return int(np.count_nonzero(inside & held))
+
     @property
     def attached(self) -> Optional[str]:
         return self.planner.robot.attached_name

@@ -70,6 +70,14 @@ class MotionClient:
         self.planning_world.commit()
         return n
 
+    def trim_held(self) -> int:
+        """Drop the parts of the held object's model that lie inside obstacles where the arm
+        holds it now (:meth:`PlanningWorld.trim_attached`); returns how many spheres."""
+        n = self.planning_world.trim_attached(self.q_cmd)
+        if n:
+            self.planning_world.commit()
+        return n
+
     def detach(self) -> Optional[str]:
         """The hand holds nothing any more; returns what it held (None: nothing)."""
         name = self.planning_world.detach()

@@ -325,6 +325,10 @@ def place_in_tray(action, out: GraspOutcome):
     motion = action.motion
     tray = tray_contents(action)
     motion.set_touchable(None)
+    trimmed = motion.trim_held()
+    if trimmed:
+        log.warning("the held object's model lay inside %d obstacle sphere(s) where the hand holds "
+                    "it now: those parts (filled in under what was seen) are dropped", trimmed)
     plane = action.loop.plane
     yield from _carry_up(action, out, plane.height_m if plane is not None else tray.geometry.floor_z_m)
     shape = held_shape(action, out)

@@ -105,3 +105,20 @@ def test_the_held_spheres_in_the_tcp_frame_are_the_attached_ones(planner):
     assert np.allclose(np.sort(c @ T[:3, :3].T + T[:3, 3], axis=0), np.sort(attached, axis=0), atol=1e-9)
     assert np.allclose(np.sort(r), np.sort(planner.robot.spheres.radius[held]))
     world.detach()
+
+
+def test_the_parts_of_a_held_object_inside_a_neighbour_where_it_hangs_are_trimmed(planner):
+    """In a pile the held points are filled down to the table, through the object below: once
+    lifted, those parts still lie in that neighbour; the rest of the model is kept."""
+    world = PlanningWorld(planner)
+    T = _tcp_down(0.5, 0.0, 0.35)
+    q = planner.solve_ik(T, rm.READY_Q).q
+    world.add_object("object/2", OrientedBox(np.array([0.5, 0.0, 0.22]), np.eye(3), np.array([0.1, 0.1, 0.1])))
+    n_all = world.attach("object/1", _held_points(T, depth=0.12), T)  # reaches down to z = 0.23
+    world.commit()
+    assert not planner.validator.is_valid(q)
+    n = world.trim_attached(q)
+    world.commit()
+    assert 0 < n < n_all and world.attached == "object/1"
+    assert planner.validator.is_valid(q)
+    world.detach()

@@ -232,6 +232,9 @@ class FakeMotion:
         name, self.attached = getattr(self, "attached", None), None
         return name
 
+    def trim_held(self) -> int:
+        return 0
+
     def execute(self, kind, traj, allowance=ContactAllowance.NONE):
         from grasp_pipeline.motion.exceptions import PlanningFailedError
 
