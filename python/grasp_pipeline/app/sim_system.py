@@ -22,7 +22,7 @@ from ..sim.scenes import random_scene, reference_scene
 from ..sim.world import SimWorld
 
 #: The parameter sets a simulated run uses.
-SECTIONS = ("scene_filter", "obb", "camera", "sim", "clutter", "motion", "scan", "grasp",
+SECTIONS = ("scene_filter", "obb", "camera", "sim", "clutter", "motion", "scan", "grasp", "place",
             "grasp_fit", "grasp_sampler", "declutter", "video", "language", "rerun", "volume")
 
 
@@ -89,7 +89,7 @@ def build_system(spec, settings: Settings, events: EventBus | None = None) -> Sy
         scanner = ActiveScan(rt, loop, motion, flange_T_camera(world.model), settings.scan,
                              max_width_m=settings.obb.gripper_open - settings.grasp_fit.min_open_margin_m)
         action = GraspAction(rt, loop, motion, settings.grasp, work_cell=cell, home_q=start_q,
-                             events=events)
+                             events=events, place_config=settings.place)
         side_view = SideView(rt, loop, motion, flange_T_camera(world.model), settings.volume,
                              settings.scan) if settings.volume.side_view else None
     except BaseException:

@@ -8,7 +8,9 @@ cannot know: which true object each attempt was aimed at and whether it ended in
 scan's probe frames (:class:`~grasp_pipeline.evaluation.segmentation.ScanSegmentationRecorder`),
 each object's geometric bound and what happened to it
 (:class:`~grasp_pipeline.evaluation.object_outcomes.ObjectOutcomeRecorder`) and PNGs of every
-failed attempt. Afterwards the ground truth says whether the table is clear.
+failed attempt (for a failure after the grasp, also a view of where the object went,
+:mod:`~grasp_pipeline.evaluation.object_view`). Afterwards the ground truth says whether the
+table is clear.
 
 :func:`run_round` never raises: an exception becomes the record's ``error``.
 """
@@ -83,6 +85,7 @@ class _Observers:
 
     def __call__(self, system) -> None:
         from ..evaluation.object_outcomes import ObjectOutcomeRecorder
+        from ..evaluation.object_view import ObjectView
         from ..evaluation.segmentation import ScanSegmentationRecorder
         from ..report.failure_recorder import FailureSnapshotRecorder
 
@@ -90,7 +93,10 @@ class _Observers:
         self.segmentation = ScanSegmentationRecorder(system.world, self.band_m).attach(system.events)
         self.outcomes = ObjectOutcomeRecorder(system.world, system.loop, self.bound_config,
                                               names_on_table).attach(system.events)
-        self.failures = FailureSnapshotRecorder(self.out_dir / "failures", self._render()).attach(system.events)
+        render = self._render()
+        self.failures = FailureSnapshotRecorder(
+            self.out_dir / "failures", render,
+            None if render is None else ObjectView(system.world, self.view).render).attach(system.events)
 
     def _render(self):
         from ..sim.exceptions import RenderUnavailable

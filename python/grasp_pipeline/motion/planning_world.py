@@ -32,6 +32,10 @@ from .perceived_scene import PerceivedScene
 
 PERCEIVED_PREFIX = "object/"
 FIXTURE_PREFIX = "fixture/"
+#: Environment points less than this above the table plane are the table's [m].
+TABLE_BAND_M = 0.01
+#: Cell of the grid whose occupied cells each get a sphere covering an attached object [m].
+ATTACH_CELL_M = 0.02
 
 
 @dataclass(frozen=True)
@@ -101,26 +105,63 @@ class PlanningWorld:
 
     # ------------------------------------------------------------------ attached
     def attach(self, name: str, points_world: np.ndarray, T_world_tcp: np.ndarray,
-               cell_m: float = 0.02) -> int:
+               cell_m: float = ATTACH_CELL_M) -> int:
         """Attach what the hand holds: ``points_world`` (N, 3) of it at the TCP pose
         ``T_world_tcp``, covered by spheres (one per ``cell_m`` cell, each holding its cell's
-        points). Removes the object ``name`` from the obstacles. Returns the sphere count."""
+        points). Removes the object ``name`` from the obstacles, and the environment points in
+        the region it stood in (above the table). Returns the sphere count."""
         pts = np.asarray(points_world, dtype=float).reshape(-1, 3)
         pts = pts[np.all(np.isfinite(pts), axis=1)]
         if len(pts) == 0:
             return 0
-        model = self.planner.model
-        T_tcp_hand = np.linalg.inv(rm.flange_T_tcp(model)) @ _flange_T_hand(model)
-        T_world_hand = np.asarray(T_world_tcp, float) @ T_tcp_hand
+        T_world_hand = np.asarray(T_world_tcp, float) @ _tcp_T_hand(self.planner.model)
         local = (pts - T_world_hand[:3, 3]) @ T_world_hand[:3, :3]
         centres, radii = _cover(local, cell_m)
         self.planner.robot.attach(name, centres, radii)
+        if name in self.objects:
+            self._clear_environment(self.objects[name].box)
         self.remove_object(name)
         return len(radii)
+
+    def _clear_environment(self, box: OrientedBox) -> None:
+        """Drop the environment points in the region the held object stood in (its box grown
+        by a voxel), except the table's (less than :data:`TABLE_BAND_M` above the plane):
+        stray points of the object that no track took would otherwise stay where it stood
+        and meet it when it is lifted."""
+        env = self.environment
+        if not len(env):
+            return
+        inside = box.inflated(float(self.planner.config.voxel_size_m)).contains(env)
+        if self.plane is not None:
+            inside &= env @ np.asarray(self.plane.n, float) + float(self.plane.c) > TABLE_BAND_M
+        if np.any(inside):
+            self.environment = env[~inside]
+            self._env_dirty = True
 
     def detach(self) -> Optional[str]:
         """Release what the hand holds (its spheres leave the hand); returns its name."""
         return self.planner.robot.detach()
+
+    def trim_attached(self, q: np.ndarray) -> int:
+        """Drop the attached spheres that lie within an obstacle's clearance with the arm at
+        ``q`` while the hand holds the object free of it (lifted): those parts of its model
+        were filled in under what was seen — e.g. down through the object it lay on in a pile.
+        Returns how many were dropped (call :meth:`commit` after)."""
+        robot, v = self.planner.robot, self.planner.validator
+        if robot.attached_name is None:
+            return 0
+        _, _, env, box, floor, _ = v._components(np.asarray(q, float)[None])
+        inside = np.zeros(len(robot.spheres.radius), dtype=bool)
+        inside[v._env_idx] = (env[0] < 0) | (box[0] < 0) | (floor[0] < 0)
+        held = robot.spheres.geom == self.planner.model.ngeom
+        if not np.any(inside & held):
+            return 0
+        keep = held & ~inside
+        name, sph = robot.attached_name, robot.spheres
+        robot.detach()
+        if np.any(keep):
+            robot.attach(name, sph.center_local[keep], sph.radius[keep])
+        return int(np.count_nonzero(inside & held))
 
     @property
     def attached(self) -> Optional[str]:
@@ -139,6 +180,21 @@ class PlanningWorld:
             self._env_dirty = False
         else:
             self.planner.set_objects(boxes, tops, target)
+
+
+def held_spheres_in_tcp(model, points_tcp: np.ndarray, cell_m: float = ATTACH_CELL_M
+                        ) -> tuple[np.ndarray, np.ndarray]:
+    """The spheres :meth:`PlanningWorld.attach` covers a held object with, for its points
+    ``points_tcp`` (N, 3) in the TCP frame: centres (M, 3) in the TCP frame and radii (M,)."""
+    T = _tcp_T_hand(model)
+    pts = np.asarray(points_tcp, dtype=float).reshape(-1, 3)
+    centres, radii = _cover((pts - T[:3, 3]) @ T[:3, :3], cell_m)
+    return centres @ T[:3, :3].T + T[:3, 3], radii
+
+
+def _tcp_T_hand(model) -> np.ndarray:
+    """Pose of the hand body in the TCP frame."""
+    return np.linalg.inv(rm.flange_T_tcp(model)) @ _flange_T_hand(model)
 
 
 def _flange_T_hand(model) -> np.ndarray:

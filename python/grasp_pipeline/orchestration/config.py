@@ -69,7 +69,7 @@ GRASP_SOURCES = ("any_side", "top_down")
 
 @dataclass(frozen=True)
 class GraspConfig:
-    """SPEC 7 grasp action and the PLACE stage (ours)."""
+    """SPEC 7 grasp action (the PLACE stage's parameters: :class:`~.place_config.PlaceConfig`)."""
 
     pre_grasp_distance_m: float = 0.12
     fragment_margin_m: float = 0.01
@@ -91,12 +91,6 @@ class GraspConfig:
     lift_height_m: float = 0.10
     hold_check_s: float = 2.0
     retreat_height_m: float = 0.10
-    carry_height_m: float = 0.30
-    place_height_m: float = 0.15
-    place_clearance_m: float = 0.015
-    place_hang_clearance_m: float = 0.08
-    place_slot_dx_m: float = 0.05
-    place_slot_dy_m: float = 0.08
     release_wait_s: float = 0.6
     pick_timeout_s: float = 90.0
     table_clearance_m: float = 0.004
@@ -124,12 +118,6 @@ class GraspConfig:
         "lift_height_m": length_m(0.5),
         "hold_check_s": duration_s(600.0),
         "retreat_height_m": length_m(0.5),
-        "carry_height_m": length_m(0.8),
-        "place_height_m": length_m(0.6),
-        "place_clearance_m": length_m(0.2),
-        "place_hang_clearance_m": length_m(0.5),
-        "place_slot_dx_m": length_m(0.2, zero=True),
-        "place_slot_dy_m": length_m(0.2, zero=True),
         "release_wait_s": duration_s(60.0),
         "pick_timeout_s": duration_s(),
         "table_clearance_m": length_m(0.1),

@@ -12,8 +12,8 @@ with "no best grasp yet" when there is none). The action never learns who produc
   stall without squeeze force fails. Whether an object is held is judged from the gripper's
   own signals (gap, stall, force) — never from simulator contacts.
 - LIFT: straight line up by ``lift_height_m``, then hold ``hold_check_s`` watching the gap.
-- PLACE (:mod:`.place`): carry to a tray slot, lower, open, go up, back to the start joints;
-  a drop while carrying fails PLACE.
+- PLACE (:mod:`.place`): carry to a free spot of the tray, lower, release low, go up, look
+  whether the object arrived, back to the start joints; a drop while carrying fails PLACE.
 Any stage failure: open, retreat upward, go home; the result says which stage failed and why.
 Each stage entry is published as a :class:`~.events.StageEvent`; the candidates and the one
 chosen at PRE_GRASP as a :class:`~.events.GraspEvent`.
@@ -40,6 +40,7 @@ from .grasping.grasp import Grasp
 from .gripper_moves import (ObjectDropped, StageFailure, close_until_stall, hold_lost, lost_message,
                             wait_gap, watch_held)
 from .place import place_in_tray, recover
+from .place_config import PlaceConfig
 from .runtime import Runtime, Task
 from .scene_model import snapshot
 from .tracks import nearest_track
@@ -84,15 +85,18 @@ class GraspAction:
 
     ``runtime.world`` is the robot (clock, arm, gripper, contact monitor); ``loop`` the
     perception loop (scene and plane); ``motion`` the motion client; ``work_cell`` gives the
-    tray to place into (None: no PLACE); ``home_q`` the joints to return to."""
+    tray to place into (None: no PLACE); ``home_q`` the joints to return to; ``place_config``
+    the PLACE stage's parameters."""
 
     def __init__(self, runtime: Runtime, loop, motion, config: GraspConfig | None = None,
                  work_cell: Optional[WorkCell] = None, home_q: Optional[np.ndarray] = None,
-                 events: Optional[EventBus] = None) -> None:
+                 events: Optional[EventBus] = None, place_config: PlaceConfig | None = None) -> None:
         self.rt = runtime
         self.loop = loop
         self.motion = motion
         self.config = config or GraspConfig()
+        self.place_config = place_config or PlaceConfig()
+        self.tray = None  # what it put into the tray (:class:`.tray.TrayContents`), from the first place
         self.work_cell = work_cell
         self.home_q = None if home_q is None else np.asarray(home_q, float)
         self.events = events if events is not None else EventBus()
@@ -106,6 +110,7 @@ class GraspAction:
         self._target_points: Optional[np.ndarray] = None  # the target as perceived at the grasp
         self.backoff_m = 0.0  # how far above the contact point the executed grasp stopped [m]
         self.tcp_height_m: Optional[float] = None  # TCP above the table at the grasp [m]
+        self.held_points_tcp: Optional[np.ndarray] = None  # the held object's points, TCP frame
 
     @property
     def robot(self):
@@ -192,6 +197,7 @@ class GraspAction:
 
     def _grasp(self, candidates: list, out: GraspOutcome):
         cfg, robot, motion = self.config, self.robot, self.motion
+        self.held_points_tcp = None
         target_tid, scene = self._set_scene(candidates[0])
         self._enter(out, GraspStage.PRE_GRASP)
         plan = self._plan(candidates)
@@ -247,8 +253,11 @@ class GraspAction:
         """Once lifted, the object moves with the hand in the planner's world: its perceived
         points at the grasp (what was seen, extended down to what it stood on) fixed to the
         hand at the grasp pose; no longer an obstacle where it stood."""
+        self.held_points_tcp = None
         if self._target_points is None or not len(self._target_points):
             return
+        T_inv = np.linalg.inv(plan.T_grasp)
+        self.held_points_tcp = self._target_points @ T_inv[:3, :3].T + T_inv[:3, 3]
         name = f"object/{self._target_tid}"
         n = self.motion.attach(name, self._target_points, plan.T_grasp)
         log.info("holding %s: %d spheres attached to the hand in the planner's world", name, n)

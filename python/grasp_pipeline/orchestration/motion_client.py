@@ -70,6 +70,14 @@ class MotionClient:
         self.planning_world.commit()
         return n
 
+    def trim_held(self) -> int:
+        """Drop the parts of the held object's model that lie inside obstacles where the arm
+        holds it now (:meth:`PlanningWorld.trim_attached`); returns how many spheres."""
+        n = self.planning_world.trim_attached(self.q_cmd)
+        if n:
+            self.planning_world.commit()
+        return n
+
     def detach(self) -> Optional[str]:
         """The hand holds nothing any more; returns what it held (None: nothing)."""
         name = self.planning_world.detach()
@@ -77,9 +85,15 @@ class MotionClient:
             self.planning_world.commit()
         return name
 
-    def add_obstacle(self, name: str, box: OrientedBox) -> None:
-        """A named obstacle the robot knows of without seeing it (e.g. what it placed)."""
-        self.planning_world.add_object(name, box)
+    def add_obstacle(self, name: str, box: OrientedBox, tops: Optional[np.ndarray] = None) -> None:
+        """A named obstacle the robot knows of without seeing it now (e.g. what it placed):
+        its ``box``, or its column ``tops`` when given (:meth:`PlanningWorld.add_object`)."""
+        self.planning_world.add_object(name, box, tops)
+        self.planning_world.commit()
+
+    def remove_obstacle(self, name: str) -> None:
+        """Forget the named obstacle (e.g. an object no longer where it was placed)."""
+        self.planning_world.remove_object(name)
         self.planning_world.commit()
 
     # ---- motions (task generators returning an ExecutionReport) -------------------

@@ -28,8 +28,9 @@ the new path does not need), and its frames during motions also fed the median w
 from __future__ import annotations
 
 import logging
+from contextlib import contextmanager
 from dataclasses import dataclass
-from typing import Optional
+from typing import Iterator, Optional
 
 import numpy as np
 
@@ -89,6 +90,19 @@ class PerceptionLoop:
         #: SPEC 2.6's width guard in :meth:`judge` (off for grasp sources that approach from
         #: any side; the composition root sets it from the source)
         self.width_guard = True
+        self._elsewhere = 0  # open :meth:`looking_elsewhere` contexts
+
+    @contextmanager
+    def looking_elsewhere(self) -> Iterator[None]:
+        """Frames delivered while this is open show something other than the table the loop
+        tracks (the tray, looked into after a place): they keep perception alive and are
+        published as :class:`~.events.FrameEvent` s, but are not processed — no tracks, no
+        retirements, no best grasp from them. Whoever looks listens to the camera itself."""
+        self._elsewhere += 1
+        try:
+            yield
+        finally:
+            self._elsewhere -= 1
 
     # ---- frames -------------------------------------------------------------------
     def on_frame(self, frame, q: Optional[np.ndarray] = None) -> None:
@@ -97,6 +111,10 @@ class PerceptionLoop:
         T = np.asarray(frame.T_world_camera)
         if self.events.wants(FrameEvent):
             self.events.publish(FrameEvent(float(frame.time_s), frame, None if q is None else np.array(q)))
+        if self._elsewhere:
+            self._looked_at_frame_s = self._looking_clock(float(frame.time_s))
+            self.stale_reported = False
+            return
         res = self.session.process(frame.points_world, T[:3, 3], frame.time_s,
                                    image_width_px=frame.width, rgb=frame.rgb)
         if self.volume is not None:

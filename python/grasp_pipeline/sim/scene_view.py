@@ -59,6 +59,21 @@ class SceneView:
         self.renderer.update_scene(self.world.data, camera=self.cam)
         return np.asarray(self.renderer.render())
 
+    def render_from(self, lookat_m, distance_m: float, azimuth_deg: float,
+                    elevation_deg: float) -> np.ndarray:
+        """One image from another free view (the view itself is kept)."""
+        if isinstance(self.cam, int):
+            raise RuntimeError("render_from needs a free view, not a model camera")
+        cam = mujoco.MjvCamera()
+        cam.type = mujoco.mjtCamera.mjCAMERA_FREE
+        cam.lookat[:] = lookat_m
+        cam.distance, cam.azimuth, cam.elevation = distance_m, azimuth_deg, elevation_deg
+        keep, self.cam = self.cam, cam
+        try:
+            return self.render()
+        finally:
+            self.cam = keep
+
     def render_depth(self) -> np.ndarray:
         """The depth image of the same view [m] (call after :meth:`render` for the same
         instant: the scene is not updated again)."""

@@ -25,7 +25,7 @@ def top_down_grasp(x=0.5, y=0.0, z=0.225, width=0.05):
 def run_action(robot, grasp, place=True, motion=None, config=None):
     rt = Runtime(robot)
     motion = motion or FakeMotion(robot)
-    action = GraspAction(rt, fake_loop(), motion, config or GraspConfig(), work_cell=TRAY,
+    action = GraspAction(rt, fake_loop(robot), motion, config or GraspConfig(), work_cell=TRAY,
                          home_q=np.zeros(7))
     ok, msg = action.start(grasp, place=place)
     assert ok, msg

@@ -99,3 +99,23 @@ def test_without_a_camera_liveness_is_on_simulated_time():
     loop = PerceptionLoop(session, ScanConfig(stale_timeout_s=0.5), ready_camera_pose=np.eye(4))
     loop.on_frame(_frame(1.0))
     assert not loop.stale(1.4) and loop.stale(1.6)
+
+
+def test_frames_while_looking_elsewhere_keep_perception_alive_but_are_not_processed():
+    """The look into the tray after a place: its frames must not feed (or retire) the tracks."""
+    cam = FakeCamera()
+    processed = []
+    session = SimpleNamespace(process=lambda pts, pos, t, **kw: processed.append(t) or
+                              SimpleNamespace(raw=SimpleNamespace(tids=[], views=[])),
+                              tracks=lambda: [], tracker=SimpleNamespace(last_gate=None), plane=None)
+    loop = PerceptionLoop(session, ScanConfig(stale_timeout_s=0.5), ready_camera_pose=np.eye(4), camera=cam)
+    loop.on_frame(_frame(0.0))
+    rt = Runtime(cam)
+    with loop.looking_elsewhere():
+        rt.spin(0.4)
+        loop.on_frame(_frame(cam.time_s))
+        rt.spin(0.4)
+    assert processed == [0.0] and loop.frames == 1
+    assert not loop.stale(cam.time_s)  # the camera delivered 0.4 s of looking ago
+    loop.on_frame(_frame(cam.time_s))
+    assert len(processed) == 2 and loop.frames == 2

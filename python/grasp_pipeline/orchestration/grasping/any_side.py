@@ -36,11 +36,11 @@ from ...motion.object_points import PointModel, columns
 from ..config import GraspConfig, GraspFitConfig
 from ..scene_cloud import ENVIRONMENT
 from .candidates import (approach_directions, approaches_across, build_frames, closing_axes,
-                         dominant_normals, normal_axes)
+                         concat_frames, dominant_normals, normal_axes, plane_basis)
 from .clearance import ObstacleSet, hand_slack, palm_touches_target
 from .config import SamplerConfig
-from .contacts import OK, REASONS, ContactLimits, evaluate
-from .grasp import Grasp
+from .contacts import OK, REASONS, ContactLimits, concat_contacts, evaluate
+from .grasp import TOP_DOWN_TOLERANCE_DEG, Grasp
 from .hand_model import HandModel, hand_model
 from .scoring import dedupe, score
 from .target_model import target_model
@@ -109,6 +109,7 @@ class AnySideGraspSource:
         frames = self._frames(target, cloud.plane_n, track.smoothed.R_box)
         lim = self._limits(request)
         con = evaluate(frames, target, self.hand, lim, cloud.plane_n, cloud.plane_c)
+        frames, con = self._above_steps(target, frames, con, lim, cloud)
         ok = np.nonzero(con.code == OK)[0]
         if len(ok) == 0:
             self.last_refusal = self._summary(con.code, len(frames))
@@ -148,6 +149,30 @@ class AnySideGraspSource:
         tilt = np.r_[tilt, t2]
         axes += [c[None, :] for c in c2]
         return build_frames(target.points, target.centroid, dirs, tilt, axes, cfg.line_spacing_m, cfg.lines)
+
+    def _above_steps(self, target, frames, con, lim, cloud):
+        """The top-down frames once more, held just above each lower step of the object's top
+        surface (:func:`~..grasp_fit.surface_levels`): the upper box of a stack that
+        segmentation merged into one cluster is grasped alone, not across the box under it.
+        Returns all frames and their contacts."""
+        from ..grasp_fit import surface_levels
+
+        n, c0 = np.asarray(cloud.plane_n, float), float(cloud.plane_c)
+        top_down = np.nonzero(frames.tilt_deg <= TOP_DOWN_TOLERANCE_DEG)[0]
+        if len(top_down) == 0:
+            return frames, con
+        h = target.points @ n + c0
+        u, v = plane_basis(n)
+        levels = surface_levels(np.column_stack([target.points @ u, target.points @ v, h]),
+                                self.fit.footprint_cell_m, self.fit.level_gap_m)
+        sub = frames.take(top_down)
+        for level in levels[: self.config.step_levels]:
+            # straight down, depth along the approach = c0 - height: the pads' lowest point
+            # stays table_clearance_m above the step
+            cap = c0 - level - self.grasp_config.table_clearance_m - self.hand.pad_half_length_m
+            extra = evaluate(sub, target, self.hand, lim, n, c0, depth_cap=np.full(len(sub), cap))
+            frames, con = concat_frames(frames, sub), concat_contacts(con, extra)
+        return frames, con
 
     def _limits(self, request) -> ContactLimits:
         g, f = self.grasp_config, self.fit

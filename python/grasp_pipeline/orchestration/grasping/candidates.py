@@ -44,7 +44,13 @@ class Frames:
                       self.pair[idx])
 
 
-def _basis(n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def concat_frames(first: Frames, second: Frames) -> Frames:
+    """The frames of ``first`` followed by those of ``second``."""
+    return Frames(*(np.concatenate([getattr(first, f), getattr(second, f)])
+                    for f in ("a", "c", "b", "x0", "tilt_deg", "pair")))
+
+
+def plane_basis(n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Two unit vectors orthogonal to ``n`` and to each other (deterministic)."""
     helper = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
     u = np.cross(n, helper)
@@ -60,7 +66,7 @@ def approach_directions(plane_n, tilts_deg, azimuths: int, away_from: np.ndarray
     side — i.e. the hand coming from the robot's side."""
     n = np.asarray(plane_n, dtype=float)
     n = n / np.linalg.norm(n)
-    u, v = _basis(n)
+    u, v = plane_basis(n)
     dirs, tilts = [-n], [0.0]
     for t in tilts_deg:
         if t <= 0:
@@ -81,7 +87,7 @@ def approach_directions(plane_n, tilts_deg, azimuths: int, away_from: np.ndarray
 
 def closing_axes(a: np.ndarray, rotations: int) -> np.ndarray:
     """(rotations, 3) unit closing axes orthogonal to ``a``, evenly spaced over 180°."""
-    u, v = _basis(np.asarray(a, dtype=float))
+    u, v = plane_basis(np.asarray(a, dtype=float))
     phi = np.pi * np.arange(rotations) / rotations
     return np.outer(np.cos(phi), u) + np.outer(np.sin(phi), v)
 

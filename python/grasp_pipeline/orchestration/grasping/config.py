@@ -25,6 +25,7 @@ class SamplerConfig:
     line_spacing_m: float = 0.008
     cell_m: float = 0.005
     max_points: int = 1200
+    step_levels: int = 2
     max_cell_m: float = 0.009
     preselect: int = 40
     reach_candidates: int = 10
@@ -54,7 +55,8 @@ class SamplerConfig:
         "tilts_deg": Range(0.0, 90.0, lo_open=True, unit=" deg"),
         "azimuths": count(1, 72), "rotations": count(1, 72), "normal_axes": count(0, 64),
         "lines": count(1, 21), "line_spacing_m": step_m(0.05), "cell_m": step_m(0.02),
-        "max_cell_m": step_m(0.02), "max_points": count(50, 20000), "preselect": count(1, 2000),
+        "max_cell_m": step_m(0.02), "max_points": count(50, 20000),
+        "step_levels": count(0, 5), "preselect": count(1, 2000),
         "approach_checks_m": length_m(0.3, zero=True), "max_raise_m": length_m(0.1, zero=True),
         "reach_candidates": count(1, 200), "max_proposals": count(1, 200),
         "duplicate_distance_m": length_m(0.1, zero=True),

@@ -85,6 +85,14 @@ class Contacts:
                 + self.z_tcp[:, None] * frames.a)
 
 
+def concat_contacts(first: Contacts, second: Contacts) -> Contacts:
+    """The contacts of ``first`` followed by those of ``second``."""
+    from dataclasses import fields
+
+    return Contacts(**{f.name: np.concatenate([getattr(first, f.name), getattr(second, f.name)])
+                       for f in fields(Contacts)})
+
+
 def _masked_min(v: np.ndarray, m: np.ndarray) -> np.ndarray:
     return np.min(v, axis=0, where=m, initial=np.inf)
 
