@@ -5,7 +5,9 @@ Sub-commands:
   run                       rough view, active scan, pick (and place) the selected objects
   bench perception|sim|planning|grasp|workers|frames
                             benchmarks that print figures and write JSON
-  record                    scripted demonstrations (declutter picks) as a LeRobot dataset
+  record                    the reference policy's episodes as a LeRobot dataset
+  eval --policy DIR         a policy's success in the environment (closed loop, seeded scenes)
+  train                     a small LeRobot policy (ACT) trained on a ``record`` dataset
   perceive FILE             one point cloud from disk (.pcd/.ply/.npy) through the
                             scene filter and estimates; prints, writes JSON (+ PNG)
 
@@ -117,18 +119,19 @@ def _add_clutter_bench(bsub) -> None:
 
 def _add_record(sub: argparse._SubParsersAction) -> None:
     r = sub.add_parser(
-        "record", help="scripted demonstrations as a LeRobot dataset (one episode per pick)",
-        description="Declutter rounds (rough view, scan, one pick at a time into the tray) recorded "
-                    "as a LeRobot dataset (format v3.0): wrist and scene camera RGB, joint state, "
-                    "end-effector pose, joint-target and end-effector-delta actions at --fps, a "
-                    "language task and the outcome per episode. Needs the 'dataset' extra "
-                    "(pip install 'grasp-pipeline[dataset]').")
-    r.add_argument("--protocol", choices=["sparse", "packed"], default="sparse",
+        "record", help="the reference policy's episodes as a LeRobot dataset (one episode per task)",
+        description="Episodes of the environment grasp_pipeline/PickPlace-v0 (one task on one seeded "
+                    "scene each) played by the reference policy (the pipeline acting through the "
+                    "environment's actions), recorded as a LeRobot dataset (format v3.0): wrist and "
+                    "scene camera RGB, joint state, end-effector pose, joint-target and "
+                    "end-effector-delta actions at --fps, the task and the outcome per episode. "
+                    "Needs the 'dataset' extra (pip install 'grasp-pipeline[dataset]').")
+    r.add_argument("--protocol", choices=["sparse", "packed", "pile"], default="sparse",
                    help="scene protocol (default sparse)")
     r.add_argument("--objects", default="builtin", metavar="builtin|DIR",
-                   help="object set of packed scenes: the built-in set or a folder of URDF/OBJ/STL objects")
+                   help="object set of packed/pile scenes: the built-in set or a folder of URDF/OBJ/STL objects")
     r.add_argument("--episodes", type=positive_int, required=True, help="episodes to write")
-    r.add_argument("--seed", type=non_negative_int, default=0, help="seed; round seeds derive from it")
+    r.add_argument("--seed", type=non_negative_int, default=0, help="seed; the scene seeds derive from it")
     r.add_argument("--workers", type=positive_int, default=1, help="worker processes (one thread each)")
     r.add_argument("--out", type=Path, required=True, help="the dataset folder (new or empty)")
     r.add_argument("--fps", type=positive_int, default=None, help="recording rate in simulated time "
@@ -137,15 +140,16 @@ def _add_record(sub: argparse._SubParsersAction) -> None:
                    help="square image side (default record.yaml: 256)")
     r.add_argument("--depth", action="store_true", help="also depth images of both cameras")
     r.add_argument("--keep-failed", action="store_true",
-                   help="keep failed picks as episodes too (marked episode.success = false)")
+                   help="keep failed episodes too (marked episode.success = false)")
     r.add_argument("--no-progress", action="store_true", help="no progress bar")
-    r.add_argument("--round-timeout", type=positive_float, default=3600.0, metavar="S",
-                   help="wall-clock limit of one round in seconds (default 3600)")
+    r.add_argument("--job-timeout", type=positive_float, default=3600.0, metavar="S",
+                   help="wall-clock limit of one worker job (env.yaml episodes_per_job episodes) in "
+                        "seconds (default 3600)")
     r.add_argument("--rerun", type=Path, default=None, metavar="DIR",
-                   help="also a Rerun recording of every round: DIR/round_<i>_scene_<seed>.rrd "
+                   help="also a Rerun recording of every episode: DIR/episode_<i>_scene_<seed>.rrd "
                         "(open with 'rerun FILE.rrd'). Needs pip install 'grasp-pipeline[rerun]'")
     _add_backend_options(r)
-    _add_config_options(r, "record, scene_filter, obb, camera, sim, clutter, motion, scan, grasp, declutter",
+    _add_config_options(r, "record, env, scene_filter, obb, camera, sim, clutter, motion, scan, grasp",
                         "record.scene_azimuth_deg=90")
 
 
