@@ -43,6 +43,7 @@ SECTIONS: Mapping[str, tuple[str, str]] = MappingProxyType({
     "rerun": ("grasp_pipeline.report.config", "RerunConfig"),
     "record": ("grasp_pipeline.dataset.config", "RecordConfig"),
     "env": ("grasp_pipeline.learning.config", "EnvConfig"),
+    "train": ("grasp_pipeline.learning.config", "TrainConfig"),
 })
 
 

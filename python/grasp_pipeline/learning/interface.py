@@ -27,7 +27,6 @@ from __future__ import annotations
 
 import math
 
-import mujoco
 import numpy as np
 from scipy.spatial.transform import Rotation
 
@@ -126,6 +125,8 @@ class ControlInterface:
 
     def observation(self) -> dict:
         """The observation now (see the module doc)."""
+        import mujoco
+
         w = self.world
         # the rendered bodies, the TCP and the joints all of this instant (after a physics step
         # MuJoCo's derived poses are those of the step's start); no effect on the dynamics

@@ -30,7 +30,6 @@ import gymnasium as gym
 import numpy as np
 
 from ..exceptions import InputError
-from .interface import ControlInterface, control_steps, image_key
 
 log = logging.getLogger(__name__)
 
@@ -50,19 +49,24 @@ class PickPlaceEnv(gym.Env):
     and ``--set``; ``image_size`` / ``fps``: as ``record``'s options; ``settings``: loaded
     settings (instead of ``overrides``)."""
 
-    metadata = {"render_modes": ["rgb_array"]}
+    metadata = {"render_modes": ["rgb_array"], "render_fps": 15}
 
     def __init__(self, protocol: str = "sparse", objects: str = "builtin", depth: bool = False,
                  image_size: Optional[int] = None, fps: Optional[int] = None,
                  max_episode_steps: Optional[int] = None, overrides: tuple = (None, ()),
                  settings=None, render_mode: Optional[str] = "rgb_array") -> None:
+        from ..sim.gl_backend import configure_gl
+
+        configure_gl()  # before anything imports MuJoCo: observations are rendered headless
         from ..dataset.record_settings import record_overrides, record_settings
+        from .interface import control_steps
         from .spaces import action_space, observation_space
 
         self.protocol, self.objects, self.depth = check_protocol(protocol), str(objects), bool(depth)
         self.settings = settings or record_settings(record_overrides(overrides, fps, image_size))
         rec = self.settings.record
         self.fps = int(rec.record_fps_hz)
+        self.metadata = {**self.metadata, "render_fps": self.fps}
         self.render_mode = render_mode
         self.observation_space = observation_space(rec, self.depth)
         self.action_space = action_space(rec)
@@ -117,6 +121,7 @@ class PickPlaceEnv(gym.Env):
         from ..app.sim_system import make_scene
         from ..evaluation.target_outcome import TargetOutcome
         from ..sim.world import SimWorld
+        from .interface import ControlInterface
         from .targets import choose_target
 
         s = self.settings
@@ -172,6 +177,8 @@ class PickPlaceEnv(gym.Env):
 
     def render(self):
         """The scene camera's image of the latest observation (``rgb_array``)."""
+        from .interface import image_key
+
         return None if self._obs is None else self._obs[image_key("scene")]
 
     def _close_world(self) -> None:

@@ -47,10 +47,9 @@ def task_description(task: str, template: str, language_config) -> str:
     description ("pick up the red triangular prism and put it in the tray" -> "the red
     object"); ``template``: the task template with ``{object}``."""
     from ..language.parse import vocabulary
+    from .targets import task_phrase
 
-    pattern = re.escape(template).replace(re.escape("{object}"), "(.+)")
-    m = re.fullmatch(pattern, task.strip())
-    phrase = m.group(1) if m else task
+    phrase = task_phrase(task, template)
     known = set().union(*vocabulary(language_config).values())
     words = [w for w in re.split(r"[\s_]+", phrase.lower()) if w in known]
     if not any(w in vocabulary(language_config)["shape"] for w in words):

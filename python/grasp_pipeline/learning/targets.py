@@ -8,6 +8,7 @@ shares when ``unique`` and there is such an object — a task names one object.
 
 from __future__ import annotations
 
+import re
 from collections import Counter
 
 import numpy as np
@@ -43,3 +44,11 @@ def is_ambiguous(objects, target) -> bool:
     """True when another object of the scene has the target's description."""
     phrase = object_phrase(target)
     return sum(object_phrase(o) == phrase for o in objects) > 1
+
+
+def task_phrase(task: str, template: str) -> str:
+    """The object phrase of a task sentence worded by ``template`` ("red mug"); the whole
+    sentence when it is not worded so."""
+    pattern = re.escape(template).replace(re.escape("{object}"), "(.+)")
+    m = re.fullmatch(pattern, task.strip())
+    return m.group(1) if m else task
