@@ -8,6 +8,9 @@ from ..exceptions import ConfigError
 
 #: Largest recorded image side [px].
 MAX_IMAGE_PX = 1024
+#: Smallest image side of video datasets [px]: LeRobot's AV1 encoder (SVT-AV1) kills the
+#: process (SIGFPE) on frames of 24 px and less.
+MIN_VIDEO_IMAGE_PX = 32
 
 
 @dataclass(frozen=True)
@@ -38,6 +41,10 @@ class RecordConfig:
             # even sides: the video encoders' 4:2:0 chroma needs them
             if not (16 <= v <= MAX_IMAGE_PX and v % 2 == 0):
                 raise ConfigError(f"{name} must be an even number in 16..{MAX_IMAGE_PX}, got {v}")
+            if self.use_videos and v < MIN_VIDEO_IMAGE_PX:
+                raise ConfigError(f"{name} must be at least {MIN_VIDEO_IMAGE_PX} px for video datasets "
+                                  f"(the AV1 encoder fails on smaller frames), got {v}; or set "
+                                  "record.use_videos=false")
         if len(self.scene_lookat_m) != 3:
             raise ConfigError(f"scene_lookat_m must have 3 values, got {self.scene_lookat_m}")
         if self.scene_distance_m <= 0 or self.depth_max_m <= 0:

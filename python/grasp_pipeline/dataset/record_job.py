@@ -68,6 +68,9 @@ def record_episode(env, settings, index: int, scene_seed: int, job: dict) -> dic
         row["shard"] = str(write_shard(Path(job["work_dir"]), index, scene_seed, rec.episode(outcome),
                                        extra, settings.record, job["depth"]))
     row["wall_s"] = time.perf_counter() - t0
+    log.info("episode %d (scene %d) finished: %s, %d frames%s", index, scene_seed,
+             "success" if success else f"failed ({stage})", len(rec.frames),
+             ", kept" if row["shard"] else "")
     return row
 
 

@@ -40,6 +40,8 @@ log = logging.getLogger(__name__)
 REPORT_FILE = "eval.json"
 SUMMARY_FILE = "summary.md"
 VIDEOS = "videos"
+#: Where the workers put each finished episode's result until the report holds them.
+RESULTS = ".episodes"
 
 
 def _eval_task(task: tuple) -> dict:
@@ -112,14 +114,23 @@ def _tasks(a: dict, per_job: int, overrides: tuple) -> list[tuple]:
         eps = [(i, scene_seed(a["seed"], i)) for i in range(j * per_job, min((j + 1) * per_job, a["episodes"]))]
         out.append((j, {"index": j, "episodes": eps, "policy": a["policy"], "device": a["device"],
                         "protocol": a["protocol"], "objects": str(a["objects"]), "depth": a["depth"],
-                        "max_steps": a["max_steps"], "overrides": overrides, "videos_dir": videos}))
+                        "max_steps": a["max_steps"], "overrides": overrides, "videos_dir": videos,
+                        "results_dir": str(a["out"] / RESULTS)}))
     return out
 
 
-def _report(a: dict, status: str, phase: Optional[str], rows: list, jobs: list, t0: float, settings) -> dict:
+def finished_episodes(out: Path) -> list[dict]:
+    """The results the workers saved, by episode index (a job stopped midway keeps its
+    finished episodes)."""
+    import json
+
+    return [json.loads(p.read_text()) for p in sorted((out / RESULTS).glob("episode_*.json"))]
+
+
+def _report(a: dict, status: str, phase: Optional[str], jobs: list, t0: float, settings) -> dict:
     from .eval_report import figures
 
-    episodes = sorted((e for r in rows for e in r["episodes"]), key=lambda e: e["index"])
+    episodes = finished_episodes(a["out"])
     for e in episodes:
         if e.get("video"):
             e["video"] = os.path.relpath(e["video"], a["out"])
@@ -142,7 +153,10 @@ def _write_text(path: Path, text: str) -> None:
 
 
 def _write(a: dict, report: dict) -> None:
-    """``summary.md`` then ``eval.json`` (both atomically), and no unfinished video left."""
+    """``summary.md`` then ``eval.json`` (both atomically); no unfinished video and no worker
+    results (the report holds them) left."""
+    import shutil
+
     from ..report.serialize import write_json
     from .eval_report import summary_markdown
     from .rollout import PARTIAL
@@ -151,6 +165,7 @@ def _write(a: dict, report: dict) -> None:
         p.unlink(missing_ok=True)
     _write_text(a["out"] / SUMMARY_FILE, summary_markdown(report))
     write_json(a["out"] / REPORT_FILE, report)
+    shutil.rmtree(a["out"] / RESULTS, ignore_errors=True)
 
 
 def _run(a: dict, t0: float) -> tuple[dict, object]:
@@ -164,7 +179,7 @@ def _run(a: dict, t0: float) -> tuple[dict, object]:
         a["policy"] = check_policy(a["policy"], env, a["device"])
         a["max_steps"] = env._max_episode_steps
         env.close()
-        write_json(a["out"] / REPORT_FILE, _report(a, "running", "simulating", [], [], t0, settings))
+        write_json(a["out"] / REPORT_FILE, _report(a, "running", "simulating", [], t0, settings))
         phase = "simulating"
         jobs = _tasks(a, settings.env.episodes_per_job, a["overrides"])
         rows, interrupted = run_jobs(jobs, _jobs(), min(a["workers"], len(jobs)), a["job_timeout_s"],
@@ -174,7 +189,7 @@ def _run(a: dict, t0: float) -> tuple[dict, object]:
             raise  # nothing was written yet: there is nothing to report
         interrupted = True
     status = "interrupted" if interrupted else "complete"
-    return _report(a, status, phase if interrupted else None, rows, rows, t0, settings), settings
+    return _report(a, status, phase if interrupted else None, rows, t0, settings), settings
 
 
 def evaluate(policy: str, protocol: str = "sparse", objects: str = "builtin", episodes: int = 10,

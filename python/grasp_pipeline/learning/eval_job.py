@@ -25,6 +25,15 @@ def load_policy(spec: str, device: str, settings):
     return LeRobotPolicy(spec, device)
 
 
+def _saved(row: dict, job: dict) -> dict:
+    """``row`` written to the job's results folder at once (atomically): a finished episode
+    survives the job's process."""
+    from ..report.serialize import write_json
+
+    write_json(Path(job["results_dir"]) / f"episode_{row['index']:05d}.json", row)
+    return row
+
+
 def _episode(env, policy, index: int, seed: int, job: dict) -> dict:
     from .rollout import EpisodeResult, play_episode
 
@@ -32,17 +41,20 @@ def _episode(env, policy, index: int, seed: int, job: dict) -> dict:
     if job["videos_dir"] is not None:
         video = Path(job["videos_dir"]) / f"episode_{index:04d}_scene_{seed}.mp4"
     try:
-        return play_episode(env, policy, index, seed, video).as_dict()
+        res = play_episode(env, policy, index, seed, video)
+        log.info("episode %d (scene %d) finished: %s after %d steps", index, seed,
+                 "success" if res.success else f"failed ({res.failed_stage})", res.steps)
+        return _saved(res.as_dict(), job)
     except Exception as exc:  # one episode's failure is a result (e.g. a policy's NaN action)
         error = f"{type(exc).__name__}: {exc}"
         log.error("episode %d (scene %d) raised %s\n%s", index, seed, error, traceback.format_exc())
-        return EpisodeResult(index=index, scene_seed=seed, failed_stage="ERROR", failure_reason=error,
-                             error=error).as_dict()
+        return _saved(EpisodeResult(index=index, scene_seed=seed, failed_stage="ERROR",
+                                    failure_reason=error, error=error).as_dict(), job)
 
 
 def run_eval_job(job: dict) -> dict:
     """Play the job's episodes (``job``: index, episodes [(index, scene seed)], policy, device,
-    protocol, objects, depth, max_steps, overrides, videos_dir); never raises."""
+    protocol, objects, depth, max_steps, overrides, videos_dir, results_dir); never raises."""
     from ..dataset.record_settings import record_settings
     from .pick_env import PickPlaceEnv
 

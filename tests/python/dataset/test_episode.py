@@ -22,7 +22,7 @@ def _episode(n=5, success=True):
 
 @pytest.mark.parametrize("depth", [False, True])
 def test_frames_match_the_features(depth):
-    cfg = build_config(RecordConfig, {"image_width_px": 16, "image_height_px": 16})
+    cfg = build_config(RecordConfig, {"image_width_px": 16, "image_height_px": 16, "use_videos": False})
     feats = dataset_features(cfg, depth)
     ep = _episode(success=False)
     frames = [frame_values(ep, i, depth) for i in range(ep.length)]
@@ -36,7 +36,7 @@ def test_frames_match_the_features(depth):
     assert {f["episode.failed_stage"] for f in frames} == {"CLOSE"}
 
 
-@pytest.mark.parametrize("values", [{"record_fps_hz": 0}, {"image_width_px": 255},
+@pytest.mark.parametrize("values", [{"record_fps_hz": 0}, {"image_width_px": 255}, {"image_height_px": 24},
                                     {"task_template": "pick it"}, {"repo_id": "picks"}])
 def test_bad_record_config_is_refused(values):
     with pytest.raises(ConfigError):
