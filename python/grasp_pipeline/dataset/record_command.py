@@ -221,7 +221,12 @@ def record_dataset(protocol: str = "sparse", objects: str = "builtin", episodes:
     from . import dataset_folder as df
     from .record_settings import record_overrides
 
+    from ..learning import require_gymnasium
+
+    if not progress:  # LeRobot's own bars too (tqdm reads this when it is first imported)
+        os.environ.setdefault("TQDM_DISABLE", "1")
     require_lerobot()  # before anything is simulated
+    require_gymnasium()
     out = Path(out)
     overrides = record_overrides(overrides, fps, image_size)
     settings = check_inputs(protocol, objects, episodes, workers, out, overrides)

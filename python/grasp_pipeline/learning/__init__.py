@@ -15,8 +15,24 @@ evaluation and training.
 
 from __future__ import annotations
 
+from ..exceptions import GraspPipelineError
+
 ENV_ID = "grasp_pipeline/PickPlace-v0"
 ENTRY_POINT = "grasp_pipeline.learning.pick_env:PickPlaceEnv"
+INSTALL_HINT = "pip install 'grasp-pipeline[learning]' (Gymnasium; in a checkout: pip install '.[learning]')"
+
+
+class LearningUnavailable(GraspPipelineError):
+    """Gymnasium (the optional extra ``learning``) is not installed."""
+
+
+def require_gymnasium():
+    """The ``gymnasium`` module, or :class:`LearningUnavailable` saying how to install it."""
+    try:
+        import gymnasium
+    except ImportError as exc:
+        raise LearningUnavailable(f"the learning environment needs Gymnasium ({exc}): {INSTALL_HINT}") from exc
+    return gymnasium
 
 
 def register_env() -> bool:

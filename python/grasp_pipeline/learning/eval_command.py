@@ -200,7 +200,9 @@ def evaluate(policy: str, protocol: str = "sparse", objects: str = "builtin", ep
              job_timeout_s: float = 3600.0) -> dict:
     """Evaluate ``policy`` (see the module doc); returns the report."""
     from ..app.run_command import sigterm_as_interrupt
+    from . import require_gymnasium
 
+    require_gymnasium()  # before anything else: the environment is Gymnasium's
     a = {"policy": str(policy), "protocol": protocol, "objects": objects, "episodes": int(episodes),
          "seed": int(seed), "workers": int(workers), "out": Path(out), "backend": backend,
          "address": address, "max_steps": max_steps, "device": device, "video": bool(video),

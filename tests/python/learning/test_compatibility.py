@@ -91,3 +91,15 @@ def test_train_and_eval_refuse_bad_input_before_any_work(recorded_dataset, tmp_p
         evaluate("reference", out=tmp_path / "used")
     assert not (tmp_path / "pol").exists() and not (tmp_path / "ev" / "eval.json").exists()
     assert not (tmp_path / "ev2" / "eval.json").exists()
+
+
+def test_eval_without_gymnasium_refuses_with_the_install_command(tmp_path):
+    import subprocess
+    import sys
+
+    code = ("import sys; sys.modules['gymnasium'] = None\n"
+            "from grasp_pipeline.cli import main\n"
+            "sys.exit(main(['eval', '--policy', 'reference', '--out', 'ev']))")
+    res = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    assert res.returncode == 2 and "Traceback" not in res.stderr, res.stderr[-2000:]
+    assert "pip install 'grasp-pipeline[learning]'" in res.stderr and not (tmp_path / "ev").exists()
