@@ -24,6 +24,15 @@ class LeRobotLayout(gym.ObservationWrapper):
             "pixels": spaces.Dict({c: space[image_key(c)] for c in CAMERAS}),
             "agent_pos": space[STATE]})
 
+    @property
+    def task(self) -> str:
+        """The episode's task sentence (LeRobot's loop passes it to language-conditioned policies)."""
+        return self.env.unwrapped.task
+
+    @property
+    def task_description(self) -> str:
+        return self.env.unwrapped.task
+
     def observation(self, observation: dict) -> dict:
         return {"pixels": {c: observation[image_key(c)] for c in CAMERAS}, "agent_pos": observation[STATE]}
 
