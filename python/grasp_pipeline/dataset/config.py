@@ -29,6 +29,7 @@ class RecordConfig:
     render_reflections: bool = False
     use_videos: bool = True
     video_codec: str = "libsvtav1"
+    video_file_size_mb: float = 20.0
     repo_id: str = "grasp_pipeline/picks"
     robot_type: str = "franka_panda"
     task_template: str = "pick up the {object} and put it in the tray"
@@ -45,6 +46,8 @@ class RecordConfig:
                 raise ConfigError(f"{name} must be at least {MIN_VIDEO_IMAGE_PX} px for video datasets "
                                   f"(the AV1 encoder fails on smaller frames), got {v}; or set "
                                   "record.use_videos=false")
+        if not self.video_file_size_mb > 0:
+            raise ConfigError(f"video_file_size_mb must be > 0, got {self.video_file_size_mb}")
         if len(self.scene_lookat_m) != 3:
             raise ConfigError(f"scene_lookat_m must have 3 values, got {self.scene_lookat_m}")
         if self.scene_distance_m <= 0 or self.depth_max_m <= 0:

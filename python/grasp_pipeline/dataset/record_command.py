@@ -194,7 +194,7 @@ def _write(a: dict, rows: list[dict], interrupted: bool, t0: float) -> dict:
                        episodes_folder=str(work))
     try:
         df.discard(staging)
-        written = merge_shards(shards, staging, a["repo_id"])
+        written = merge_shards(shards, staging, a["repo_id"], a["video_file_size_mb"])
         summary = summarize(rows, written, a, time.perf_counter() - t0, _cpu_now() - cpu0, interrupted)
         write_json(staging / SUMMARY_FILE, summary)
         df.publish(staging, out)
@@ -235,7 +235,8 @@ def record_dataset(protocol: str = "sparse", objects: str = "builtin", episodes:
          "workers": int(workers), "keep_failed": bool(keep_failed), "depth": bool(depth),
          "overrides": overrides, "backend": backend, "address": address, "out": out,
          "job_timeout_s": job_timeout_s, "rerun_dir": rerun_dir,
-         "per_job": settings.env.episodes_per_job, "repo_id": settings.record.repo_id}
+         "per_job": settings.env.episodes_per_job, "repo_id": settings.record.repo_id,
+         "video_file_size_mb": settings.record.video_file_size_mb}
     work = df.work_dir(out)
     for stale in (work, df.staging_dir(out)):  # left by a run that was killed
         df.discard(stale)

@@ -66,13 +66,16 @@ def finished_shards(work: Path) -> list[Shard]:
     return sorted(out, key=lambda s: s.index)
 
 
-def merge_shards(shards: list[Shard], root: Path, repo_id: str) -> list[dict]:
+def merge_shards(shards: list[Shard], root: Path, repo_id: str, video_file_size_mb: float) -> list[dict]:
     """One dataset at ``root`` (which must not exist) of the shards' episodes, in their order,
-    with the outcome list; returns the outcomes (``episode_index`` renumbered)."""
+    with the outcome list; returns the outcomes (``episode_index`` renumbered). Video files
+    hold up to ``video_file_size_mb`` (LeRobot appends each episode by rewriting the file it
+    joins: bounded files keep the merge linear in the episodes)."""
     from lerobot.datasets.aggregate import aggregate_datasets
 
     aggregate_datasets(repo_ids=[repo_id] * len(shards), aggr_repo_id=repo_id,
-                       roots=[s.root for s in shards], aggr_root=Path(root))
+                       roots=[s.root for s in shards], aggr_root=Path(root),
+                       video_files_size_in_mb=float(video_file_size_mb))
     outcomes = [{**s.outcome, "episode_index": k} for k, s in enumerate(shards)]
     path = Path(root) / OUTCOMES_FILE
     path.write_text("".join(json.dumps(o) + "\n" for o in outcomes))

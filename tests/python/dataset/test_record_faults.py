@@ -102,7 +102,8 @@ def _finished_episodes(out: Path) -> tuple[dict, list]:
         rows.append({"index": i, "episodes": [{"index": i, "shard": str(path), **ep.outcome()}],
                      "error": None, "timings": {"wall_s": 1.0}})
     df.mark_incomplete(out, "recording", "record is running")
-    a = {"out": out, "episodes": 2, "repo_id": cfg.repo_id, "workers": 1, "backend": "local", "per_job": 1}
+    a = {"out": out, "episodes": 2, "repo_id": cfg.repo_id, "workers": 1, "backend": "local", "per_job": 1,
+         "video_file_size_mb": cfg.video_file_size_mb}
     return a, rows
 
 
@@ -132,14 +133,19 @@ def test_interrupted_while_writing_keeps_the_episodes_and_marks_the_folder(tmp_p
 
 
 def test_written_in_episode_order_then_the_work_folder_is_removed(tmp_path):
+    """(with video files so small that each episode starts a new one: the merged dataset reads
+    its frames from both)"""
     from grasp_pipeline.dataset.record_command import _write
 
     out = tmp_path / "ds"
     a, rows = _finished_episodes(out)
+    a["video_file_size_mb"] = 1e-6
     summary = _write(a, rows, False, time.perf_counter())
     assert summary["status"] == "complete" and summary["episodes_written"] == 2
     ds = _load(out)
     assert ds.num_episodes == 2 and [ep["length"] for ep in ds.meta.episodes] == [5, 6]
+    assert len(list((out / "videos/observation.images.scene").rglob("*.mp4"))) == 2
+    assert tuple(ds[0]["observation.images.scene"].shape) == tuple(ds[10]["observation.images.scene"].shape) == (3, 32, 32)
     outcomes = [json.loads(x) for x in (out / "meta/grasp_pipeline_episodes.jsonl").read_text().splitlines()]
     assert [(o["episode_index"], o["scene_seed"]) for o in outcomes] == [(0, 11), (1, 12)]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["ds"] and not (out / df.MARKER).exists()
