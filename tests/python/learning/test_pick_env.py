@@ -97,3 +97,13 @@ def test_bad_options_are_refused():
     with pytest.raises(InputError, match="is not an object of scene 5"):
         e.reset(seed=5, options={"target": "nothing_here"})
     e.close()
+
+
+def test_with_depth_the_depth_images_are_observations_too():
+    e = PickPlaceEnv("sparse", depth=True, image_size=PX, overrides=ONE)
+    obs, _ = e.reset(seed=5)
+    for cam in ("wrist", "scene"):
+        d = obs[f"observation.depth.{cam}"]
+        assert d.shape == (PX, PX, 1) and d.dtype == np.float32 and float(d.max()) > 0.1
+    assert e.observation_space.contains(obs)
+    e.close()
