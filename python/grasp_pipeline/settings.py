@@ -42,7 +42,7 @@ SECTIONS: Mapping[str, tuple[str, str]] = MappingProxyType({
     "language": ("grasp_pipeline.language.config", "LanguageConfig"),
     "rerun": ("grasp_pipeline.report.config", "RerunConfig"),
     "record": ("grasp_pipeline.dataset.config", "RecordConfig"),
-    "env": ("grasp_pipeline.learning.config", "EnvConfig"),
+    "env": ("grasp_pipeline.learning.config", "PickEnvConfig"),
     "train": ("grasp_pipeline.learning.config", "TrainConfig"),
 })
 

@@ -8,7 +8,7 @@ from ..exceptions import ConfigError
 
 
 @dataclass(frozen=True)
-class EnvConfig:
+class PickEnvConfig:
     """The episode rules of ``grasp_pipeline/PickPlace-v0``, the reference policy's choices and
     the size of the worker jobs of ``record`` and ``eval`` (see ``env.yaml``)."""
 
