@@ -102,14 +102,19 @@ def _kept(rows: list[dict]) -> int:
 
 
 def _batch(needed: int, rows: list[dict], a: dict) -> int:
-    """Jobs to start next: one per worker first, then as many as the episodes kept per
-    episode played so far say are still needed (a multiple of the worker count)."""
+    """Jobs to start next (a multiple of the worker count): first enough for the episodes
+    still needed were every one kept, then as many as the episodes kept per episode played so
+    far say are still needed. (A batch ends when its last job does: one large first batch keeps
+    every worker busy.)"""
     played = sum(len(r["episodes"]) for r in rows)
     kept, per_job, workers = _kept(rows), a["per_job"], a["workers"]
-    if not played or not kept:
-        return workers
-    n = max(workers, math.ceil(needed * played / kept / per_job))
-    return workers * math.ceil(n / workers)
+    if not played:
+        n = math.ceil(needed / per_job)
+    elif not kept:
+        n = workers
+    else:
+        n = math.ceil(needed * played / kept / per_job)
+    return workers * math.ceil(max(n, workers) / workers)
 
 
 def _tasks(first_job: int, n: int, a: dict, work: Path) -> list[tuple]:
