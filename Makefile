@@ -44,12 +44,13 @@ $(VENV)/bin/python:
 
 $(VENV)/.installed: $(VENV)/bin/python $(SOURCES)
 	@rm -f python/grasp_pipeline/_*.so  # a dev build (scripts/dev_build_core.sh) must not ship
-	$(PIP) install -q ".[test,meshes,ray,rerun]" $(QUIET_PIP)
+	$(PIP) install -q ".[test,meshes,ray,rerun,learning]" $(QUIET_PIP)
 	@touch $@
 
-# LeRobot's dataset code for `record` and its tests (the 'dataset' extra, lean): torch/torchvision
-# within lerobot 0.4.4's pins (taken from this machine's disk), lerobot without its training/robot
-# dependencies, and what lerobot.datasets imports (requirements/dataset-ci.txt explains).
+# LeRobot for `record`, `train`, `eval` and their tests (the 'dataset' extra, lean): torch/torchvision
+# within lerobot 0.4.4's pins (taken from this machine's disk), lerobot without its robot/logging
+# dependencies, and what lerobot.datasets, its ACT policy, processors and lerobot-eval import
+# (requirements/dataset-ci.txt explains).
 DATASET_TORCH := torch==2.9.1 torchvision==0.24.1
 $(VENV)/.dataset: $(VENV)/bin/python requirements/dataset-ci.txt
 	$(PIP) install -q $(DATASET_TORCH) $(QUIET_PIP)

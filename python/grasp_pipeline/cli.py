@@ -5,7 +5,9 @@ Sub-commands:
   run                       rough view, active scan, pick (and place) the selected objects
   bench perception|sim|planning|grasp|workers|frames
                             benchmarks that print figures and write JSON
-  record                    scripted demonstrations (declutter picks) as a LeRobot dataset
+  record                    the reference policy's episodes as a LeRobot dataset
+  eval --policy DIR         a policy's success in the environment (closed loop, seeded scenes)
+  train                     a small LeRobot policy (ACT) trained on a ``record`` dataset
   perceive FILE             one point cloud from disk (.pcd/.ply/.npy) through the
                             scene filter and estimates; prints, writes JSON (+ PNG)
 
@@ -118,18 +120,19 @@ def _add_clutter_bench(bsub) -> None:
 
 def _add_record(sub: argparse._SubParsersAction) -> None:
     r = sub.add_parser(
-        "record", help="scripted demonstrations as a LeRobot dataset (one episode per pick)",
-        description="Declutter rounds (rough view, scan, one pick at a time into the tray) recorded "
-                    "as a LeRobot dataset (format v3.0): wrist and scene camera RGB, joint state, "
-                    "end-effector pose, joint-target and end-effector-delta actions at --fps, a "
-                    "language task and the outcome per episode. Needs the 'dataset' extra "
-                    "(pip install 'grasp-pipeline[dataset]').")
-    r.add_argument("--protocol", choices=["sparse", "packed"], default="sparse",
+        "record", help="the reference policy's episodes as a LeRobot dataset (one episode per task)",
+        description="Episodes of the environment grasp_pipeline/PickPlace-v0 (one task on one seeded "
+                    "scene each) played by the reference policy (the pipeline acting through the "
+                    "environment's actions), recorded as a LeRobot dataset (format v3.0): wrist and "
+                    "scene camera RGB, joint state, end-effector pose, joint-target and "
+                    "end-effector-delta actions at --fps, the task and the outcome per episode. "
+                    "Needs the 'dataset' extra (pip install 'grasp-pipeline[dataset]').")
+    r.add_argument("--protocol", choices=["sparse", "packed", "pile"], default="sparse",
                    help="scene protocol (default sparse)")
     r.add_argument("--objects", default="builtin", metavar="builtin|DIR",
-                   help="object set of packed scenes: the built-in set or a folder of URDF/OBJ/STL objects")
+                   help="object set of packed/pile scenes: the built-in set or a folder of URDF/OBJ/STL objects")
     r.add_argument("--episodes", type=positive_int, required=True, help="episodes to write")
-    r.add_argument("--seed", type=non_negative_int, default=0, help="seed; round seeds derive from it")
+    r.add_argument("--seed", type=non_negative_int, default=0, help="seed; the scene seeds derive from it")
     r.add_argument("--workers", type=positive_int, default=1, help="worker processes (one thread each)")
     r.add_argument("--out", type=Path, required=True, help="the dataset folder (new or empty)")
     r.add_argument("--fps", type=positive_int, default=None, help="recording rate in simulated time "
@@ -138,16 +141,74 @@ def _add_record(sub: argparse._SubParsersAction) -> None:
                    help="square image side (default record.yaml: 256)")
     r.add_argument("--depth", action="store_true", help="also depth images of both cameras")
     r.add_argument("--keep-failed", action="store_true",
-                   help="keep failed picks as episodes too (marked episode.success = false)")
+                   help="keep failed episodes too (marked episode.success = false)")
     r.add_argument("--no-progress", action="store_true", help="no progress bar")
-    r.add_argument("--round-timeout", type=positive_float, default=3600.0, metavar="S",
-                   help="wall-clock limit of one round in seconds (default 3600)")
+    r.add_argument("--job-timeout", type=positive_float, default=3600.0, metavar="S",
+                   help="wall-clock limit of one worker job (env.yaml episodes_per_job episodes) in "
+                        "seconds (default 3600)")
     r.add_argument("--rerun", type=Path, default=None, metavar="DIR",
-                   help="also a Rerun recording of every round: DIR/round_<i>_scene_<seed>.rrd "
+                   help="also a Rerun recording of every episode: DIR/episode_<i>_scene_<seed>.rrd "
                         "(open with 'rerun FILE.rrd'). Needs pip install 'grasp-pipeline[rerun]'")
     _add_backend_options(r)
-    _add_config_options(r, "record, scene_filter, obb, camera, sim, clutter, motion, scan, grasp, declutter",
+    _add_config_options(r, "record, env, scene_filter, obb, camera, sim, clutter, motion, scan, grasp",
                         "record.scene_azimuth_deg=90")
+
+
+def _add_recording_options(p: argparse.ArgumentParser) -> None:
+    """``--image-size --fps --depth``: the observations, as ``record`` recorded them."""
+    p.add_argument("--image-size", type=positive_int, default=None, metavar="PX",
+                   help="square camera image side, as the dataset was recorded (default record.yaml: 256)")
+    p.add_argument("--fps", type=positive_int, default=None,
+                   help="control rate, as the dataset was recorded (default record.yaml: 15)")
+
+
+def _add_eval(sub: argparse._SubParsersAction) -> None:
+    e = sub.add_parser(
+        "eval", help="a policy's success rate in the environment (closed loop, seeded scenes)",
+        description="Runs a policy saved by LeRobot (save_pretrained, with its processors) or the "
+                    "reference policy (the pipeline through the environment's actions) for N episodes "
+                    "of grasp_pipeline/PickPlace-v0 on seeded scenes; writes eval.json (success rate "
+                    "with a 95%% interval, per task word and per object, failure reasons, steps and "
+                    "seconds per episode), summary.md and a video per episode.")
+    e.add_argument("--policy", required=True, metavar="DIR|reference",
+                   help="a LeRobot policy folder, or 'reference'")
+    e.add_argument("--protocol", choices=["sparse", "packed", "pile"], default="sparse",
+                   help="scene protocol (default sparse)")
+    e.add_argument("--objects", default="builtin", metavar="builtin|DIR",
+                   help="object set of packed/pile scenes")
+    e.add_argument("--episodes", type=positive_int, default=10, help="episodes (default 10)")
+    e.add_argument("--seed", type=non_negative_int, default=1000,
+                   help="seed; the scene seeds derive from it as record's (default 1000: not record's 0)")
+    e.add_argument("--workers", type=positive_int, default=1, help="worker processes (one thread each)")
+    e.add_argument("--max-steps", type=positive_int, default=None,
+                   help="steps per episode before it is truncated (default env.yaml time_limit_s x fps)")
+    e.add_argument("--device", choices=["cpu", "cuda"], default="cpu", help="where the policy runs")
+    e.add_argument("--out", type=Path, required=True, help="the report folder (new or empty)")
+    e.add_argument("--no-video", action="store_true", help="no video per episode")
+    e.add_argument("--depth", action="store_true", help="the environment also gives depth images")
+    e.add_argument("--no-progress", action="store_true", help="no progress bar")
+    e.add_argument("--job-timeout", type=positive_float, default=3600.0, metavar="S",
+                   help="wall-clock limit of one worker job in seconds (default 3600)")
+    _add_recording_options(e)
+    _add_backend_options(e)
+    _add_config_options(e, "env, record, scene_filter, obb, camera, sim, clutter, motion, scan, grasp",
+                        "env.time_limit_s=30")
+
+
+def _add_train(sub: argparse._SubParsersAction) -> None:
+    t = sub.add_parser(
+        "train", help="a small LeRobot policy (ACT, from scratch) trained on a record dataset",
+        description="Trains LeRobot's ACT (no pretrained backbone download) on a record dataset's "
+                    "successful episodes and saves it with save_pretrained (policy and processors) "
+                    "for eval --policy. Sizes and optimiser: config/train.yaml.")
+    t.add_argument("--dataset", type=Path, required=True, help="a dataset written by grasp-pipeline record")
+    t.add_argument("--out", type=Path, required=True, help="the policy folder (new or empty)")
+    t.add_argument("--steps", type=positive_int, default=None, help="optimisation steps (default train.yaml)")
+    t.add_argument("--batch-size", type=positive_int, default=None, help="frames per step (default train.yaml)")
+    t.add_argument("--seed", type=non_negative_int, default=0, help="seed of the initialisation and sampling")
+    t.add_argument("--device", choices=["cpu", "cuda"], default="cpu", help="where to train")
+    _add_recording_options(t)
+    _add_config_options(t, "train, record", "train.dim_model=256")
 
 
 def _add_backend_options(p: argparse.ArgumentParser) -> None:
@@ -288,6 +349,8 @@ def build_parser() -> argparse.ArgumentParser:
     _add_run(sub)
     _add_bench(sub)
     _add_record(sub)
+    _add_eval(sub)
+    _add_train(sub)
     _add_perceive(sub)
     return parser
 
@@ -374,6 +437,14 @@ def _run(args: argparse.Namespace) -> int:
         from .dataset.record_command import record_main
 
         return record_main(args)
+    if args.command == "eval":
+        from .learning.eval_command import eval_main
+
+        return eval_main(args)
+    if args.command == "train":
+        from .learning.train_command import train_main
+
+        return train_main(args)
     if args.command == "perceive":
         from .perceive import run_perceive
 
@@ -393,7 +464,7 @@ def _split_log_level(argv: list[str] | None) -> tuple[Optional[str], list[str]]:
 
 
 def _uses_mujoco(args: argparse.Namespace) -> bool:
-    return args.command in ("run", "demo", "record") or (args.command == "bench" and args.bench != "perception")
+    return args.command in ("run", "demo", "record", "eval") or (args.command == "bench" and args.bench != "perception")
 
 
 def main(argv: list[str] | None = None) -> int:

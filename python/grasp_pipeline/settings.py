@@ -46,6 +46,8 @@ SECTIONS: Mapping[str, tuple[str, str]] = MappingProxyType({
     "rerun": ("grasp_pipeline.report.config", "RerunConfig"),
     "record": ("grasp_pipeline.dataset.config", "RecordConfig"),
     "grasp_bound": ("grasp_pipeline.evaluation.config", "GraspBoundConfig"),
+    "env": ("grasp_pipeline.learning.config", "PickEnvConfig"),
+    "train": ("grasp_pipeline.learning.config", "TrainConfig"),
 })
 
 

@@ -4,3 +4,6 @@ backend before anything imports MuJoCo (``MUJOCO_GL`` from the environment is re
 from grasp_pipeline.sim.gl_backend import configure_gl
 
 configure_gl()
+
+#: The shared ``record`` run of the dataset and learning tests (fixture ``recorded_dataset``).
+pytest_plugins = ["recorded"]

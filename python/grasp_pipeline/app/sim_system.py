@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Optional
 
 import numpy as np
@@ -49,11 +50,12 @@ class System:
 SCENES = ("reference", "random", "sparse", "packed", "pile")
 
 
-def make_scene(scene, seed: int, settings: Settings, objects: str = "builtin"):
+def make_scene(scene, seed: int, settings: Settings, objects="builtin"):
     """The reference scene (SPEC 8), a seeded random (sparse) scene of primitives, a seeded
     ``packed`` or ``pile`` scene (VGN/GIGA protocols) of the object set ``objects``
-    (``builtin`` or a folder/file, :func:`grasp_pipeline.objects.catalog.object_set`), or
-    ``scene`` itself when it is a :class:`~grasp_pipeline.sim.scene_spec.SceneSpec`."""
+    (``builtin`` or a folder/file, :func:`grasp_pipeline.objects.catalog.object_set`, or the
+    list of object models it gave), or ``scene`` itself when it is a
+    :class:`~grasp_pipeline.sim.scene_spec.SceneSpec`."""
     if isinstance(scene, SceneSpec):
         return scene
     if scene == "reference":
@@ -65,17 +67,21 @@ def make_scene(scene, seed: int, settings: Settings, objects: str = "builtin"):
         from ..sim.clutter_scenes import packed_scene, pile_scene
 
         build = packed_scene if scene == "packed" else pile_scene
-        return build(object_set(objects), seed, settings.clutter, settings.sim)
+        models = object_set(objects) if isinstance(objects, (str, Path)) else list(objects)
+        return build(models, seed, settings.clutter, settings.sim)
     raise InputError(f"scene must be one of {', '.join(SCENES)}, got {scene!r}")
 
 
-def build_system(spec, settings: Settings, events: EventBus | None = None) -> System:
-    """World + camera → perception loop; motion client; scan; grasp action (not started)."""
+def build_system(spec, settings: Settings, events: EventBus | None = None, robot=None) -> System:
+    """World + camera → perception loop; motion client; scan; grasp action (not started).
+    ``robot``: build on this robot (the protocols of ``robot/protocols.py`` plus ``model``,
+    ``work_cell`` and ``close()``, e.g. a learning environment's adapter) instead of a new
+    ``SimWorld`` of ``spec``."""
     events = events if events is not None else EventBus()
     if settings.obb.gripper_open > GRIPPER_MAX_WIDTH_M + 1e-9:
         raise ConfigError(f"obb.gripper_open = {settings.obb.gripper_open} m exceeds the gripper's "
                           f"opening ({GRIPPER_MAX_WIDTH_M} m, robot description)")
-    world = SimWorld(spec, settings.sim, settings.camera)
+    world = robot if robot is not None else SimWorld(spec, settings.sim, settings.camera)
     try:
         session = PerceptionSession(settings.scene_filter, settings.obb)
         loop = PerceptionLoop(session, settings.scan, ready_camera_pose=world.camera_pose(),

@@ -4,7 +4,7 @@ LeRobot is an optional extra (``pip install 'grasp-pipeline[dataset]'``); :func:
 checks for it before anything is simulated. :class:`LeRobotWriter` wraps
 ``LeRobotDataset.create`` → ``add_frame`` … ``save_episode`` → ``finalize``; besides LeRobot's
 files it writes ``meta/grasp_pipeline_episodes.jsonl`` (per episode: task, success, failed
-stage, message, target object, scene seed, round and attempt).
+stage, message, target object, scene seed and attempt).
 """
 
 from __future__ import annotations

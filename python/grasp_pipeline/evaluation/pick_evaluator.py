@@ -32,17 +32,20 @@ def nearest_truth_name(world, xy) -> Optional[str]:
     return truths[int(np.argmin(d))].name
 
 
+def tray_holds(cell, p) -> bool:
+    """True when the point ``p`` [m] lies over the tray floor's footprint of the work cell
+    ``cell``, near its height."""
+    half = 0.5 * float(cell.tray_floor.extents[0])
+    centre = cell.tray_center_m
+    return bool(abs(p[0] - centre[0]) <= half and abs(p[1] - centre[1]) <= half
+                and centre[2] - TRAY_BELOW_M <= p[2] <= centre[2] + TRAY_ABOVE_M)
+
+
 def in_tray(world, name: str) -> bool:
     """True when object ``name`` lies over the tray floor's footprint, near its height."""
-    cell = world.work_cell
-    floor = cell.tray_floor
-    half = 0.5 * float(floor.extents[0])
-    centre = cell.tray_center_m
     for t in object_truths(world):
         if t.name == name:
-            p = t.position_m
-            return bool(abs(p[0] - centre[0]) <= half and abs(p[1] - centre[1]) <= half
-                        and centre[2] - TRAY_BELOW_M <= p[2] <= centre[2] + TRAY_ABOVE_M)
+            return tray_holds(world.work_cell, t.position_m)
     return False
 
 

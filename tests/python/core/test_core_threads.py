@@ -99,8 +99,10 @@ def test_the_gil_is_released_while_a_thread_waits_or_works():
     done = threading.Event()
     ticks = []
 
+    frames = 60  # per worker: long enough (~0.15 s on a fast machine) for many ticks
+
     def process():
-        for _ in range(3):
+        for _ in range(frames):
             per.process(big, [0.5, 0.5, 0.6], 0.0)
         done.set()
 
@@ -112,8 +114,8 @@ def test_the_gil_is_released_while_a_thread_waits_or_works():
         done.wait(0.001)
     for w in workers:
         w.join(60)
-    assert len(ticks) > 10
-    assert per.scene_filter.frame_index == 6  # every frame counted exactly once
+    assert len(ticks) > 10, len(ticks)
+    assert per.scene_filter.frame_index == 2 * frames  # every frame counted exactly once
 
 
 def test_views_keep_their_owner_alive_and_see_its_state():

@@ -1,9 +1,10 @@
 """``grasp-pipeline record``: a 2-episode dataset through the installed console script in a
-clean environment, read back with LeRobot's own ``LeRobotDataset``; the same seed on the Ray
-backend gives the same dataset; without LeRobot the command refuses before simulating.
+clean environment (the session's shared run, :mod:`recorded`), read back with LeRobot's own
+``LeRobotDataset``; the same seed on the Ray backend gives the same dataset; without LeRobot
+the command refuses before simulating.
 
-The two episodes are two one-object sparse rounds (2 workers, one round each) with
-``--keep-failed``, so the dataset holds both attempts whatever their outcome.
+The two episodes are the environment's episodes on two one-object sparse scenes (2 workers,
+one episode each) with ``--keep-failed``, so the dataset holds both whatever their outcome.
 """
 
 from __future__ import annotations
@@ -17,32 +18,15 @@ import numpy as np
 import pytest
 
 from grasp_pipeline.bench.grasp_bench import scene_seed
-
-EXE = Path(sys.executable).parent / "grasp-pipeline"
-SEED, EPISODES, IMAGE_PX = 3, 2, 64   # small images: rendering and encoding cost ~ pixels
-ARGS = ["--log-level", "WARNING", "record", "--protocol", "sparse", "--episodes", str(EPISODES),
-        "--seed", str(SEED), "--workers", "2", "--keep-failed", "--no-progress",
-        "--image-size", str(IMAGE_PX),
-        "--set", "sim.object_count=[1,1]"]
-
-
-def _record(d: Path, backend: str) -> subprocess.CompletedProcess:
-    env = {"PATH": f"{EXE.parent}:/usr/bin:/bin", "HOME": str(d), "LANG": "C.UTF-8"}
-    rerun = ["--rerun", "recs"] if backend == "local" else []  # recordings change no decision
-    return subprocess.run([str(EXE), *ARGS, *rerun, "--backend", backend, "--out", "ds"], cwd=d, env=env,
-                          capture_output=True, text=True, timeout=1800, stdin=subprocess.DEVNULL)
+from recorded import EPISODES, IMAGE_PX, ONE_OBJECT, SEED, record
 
 
 @pytest.fixture(scope="module")
-def datasets(tmp_path_factory):
-    assert EXE.exists(), f"{EXE} is missing: install the package first (make setup)"
-    out = {}
-    for backend in ("local", "ray"):
-        d = tmp_path_factory.mktemp(backend)
-        res = _record(d, backend)
-        assert res.returncode == 0 and "Traceback" not in res.stderr, res.stderr[-3000:]
-        out[backend] = (d / "ds", json.loads(res.stdout))
-    return out
+def datasets(recorded_dataset, tmp_path_factory):
+    d = tmp_path_factory.mktemp("ray")
+    res = record(d, "ray")
+    assert res.returncode == 0 and "Traceback" not in res.stderr, res.stderr[-3000:]
+    return {"local": recorded_dataset, "ray": (d / "ds", json.loads(res.stdout))}
 
 
 def _load(root: Path):
@@ -59,9 +43,11 @@ def _outcomes(root: Path) -> list[dict]:
     return [json.loads(line) for line in (root / "meta/grasp_pipeline_episodes.jsonl").read_text().splitlines()]
 
 
-def test_dataset_loads_with_lerobot_with_its_features_and_episodes(datasets):
-    root, summary = datasets["local"]
+def test_dataset_loads_with_lerobot_with_its_features_and_episodes(recorded_dataset):
+    root, summary = recorded_dataset
     assert summary["status"] == "complete" and summary["episodes_written"] == EPISODES
+    assert sorted(p.name for p in root.iterdir()) == ["data", "meta", "videos"]  # no marker, no temp files
+    assert not list(root.parent.glob(".ds.*")), "work or staging folders left behind"
     info = json.loads((root / "meta/info.json").read_text())
     assert info["codebase_version"] == "v3.0" and info["fps"] == 15
     ds = _load(root)
@@ -75,9 +61,8 @@ def test_dataset_loads_with_lerobot_with_its_features_and_episodes(datasets):
     assert tuple(item["observation.ee_pose"].shape) == (7,) and tuple(item["action.ee_delta"].shape) == (7,)
     # episode boundaries: contiguous index ranges, frame_index restarting at 0, lengths as listed
     ep_index, frame_index = _columns(ds, "episode_index"), _columns(ds, "frame_index")
-    outcomes = _outcomes(root)
     start = 0
-    for k, o in enumerate(outcomes):
+    for k, o in enumerate(_outcomes(root)):
         ep = ds.meta.episodes[k]
         assert (ep["dataset_from_index"], ep["dataset_to_index"]) == (start, start + o["length"])
         assert np.all(ep_index[start:start + o["length"]] == k)
@@ -86,18 +71,19 @@ def test_dataset_loads_with_lerobot_with_its_features_and_episodes(datasets):
     assert start == ds.num_frames
 
 
-def test_tasks_and_outcomes_name_each_target(datasets):
+def test_tasks_and_outcomes_name_each_target(recorded_dataset):
+    from grasp_pipeline.app.sim_system import make_scene
     from grasp_pipeline.dataset.record_settings import record_settings
-    from grasp_pipeline.bench.clutter_round import round_scene
     from grasp_pipeline.language.colours import colour_name
 
-    root, summary = datasets["local"]
+    root, _ = recorded_dataset
     ds, outcomes = _load(root), _outcomes(root)
     success, done = _columns(ds, "episode.success"), _columns(ds, "next.done")
     stages = [str(x) for x in ds.hf_dataset["episode.failed_stage"]]
-    settings = record_settings((None, ("sim.object_count=[1,1]",)))
+    settings = record_settings((None, ONE_OBJECT))
     for k, o in enumerate(outcomes):
-        (obj,) = round_scene("sparse", scene_seed(SEED, o["round"]), "builtin", settings).objects
+        assert o["scene_seed"] == scene_seed(SEED, o["attempt"]) and o["attempt"] == k
+        (obj,) = make_scene("sparse", o["scene_seed"], settings).objects
         colour = colour_name(tuple(obj.rgba)[:3])  # sparse primitives: colour from their RGBA
         assert o["task"] == f"pick up the {colour} {obj.category or obj.kind} and put it in the tray"
         assert o["object"] == obj.name
@@ -110,16 +96,15 @@ def test_tasks_and_outcomes_name_each_target(datasets):
     assert set(ds.meta.tasks.index) == {o["task"] for o in outcomes}
 
 
-def test_each_action_leads_to_the_next_state(datasets):
-    """Frame i's joint targets are those the controller tracks until frame i+1: the measured
-    joints at i+1 lie within the executor's own "reached" tolerance of them
-    (``motion.settle_position_tol_rad``, 5 mrad; the PD servos with velocity feed-forward track
-    the timed references far closer), while the arm moves tens of mrad between frames — so
-    a target one frame late or early would fail this."""
+def test_each_action_leads_to_the_next_state(recorded_dataset):
+    """Frame i's joint targets are reached at frame i+1's time: the measured joints at i+1 lie
+    within the executor's own "reached" tolerance of them (``motion.settle_position_tol_rad``,
+    5 mrad; the servos with velocity feed-forward track the ramps far closer), while the arm
+    moves tens of mrad between frames — so a target one frame late or early would fail this."""
     from grasp_pipeline.settings import load_settings
 
     tol = load_settings(["motion"]).motion.settle_position_tol_rad
-    root, _ = datasets["local"]
+    root, _ = recorded_dataset
     ds = _load(root)
     state, action = _columns(ds, "observation.state"), _columns(ds, "action")
     for ep in ds.meta.episodes:
@@ -140,16 +125,16 @@ def test_ray_backend_writes_the_same_dataset(datasets):
         assert np.array_equal(_columns(a, key), _columns(b, key)), key
 
 
-def test_rerun_recording_of_every_round_reads_back(datasets):
-    """``--rerun DIR``: one readable recording per round, named after the round's scene seed."""
+def test_rerun_recording_of_every_episode_reads_back(recorded_dataset):
+    """``--rerun DIR``: one readable recording per episode, named after the episode's scene seed."""
     from grasp_pipeline.report.rerun_summary import summarize_recording
 
-    recs = datasets["local"][0].parent / "recs"
+    recs = recorded_dataset[0].parent / "recs"
     names = sorted(p.name for p in recs.glob("*.rrd"))
-    assert names == sorted(f"round_{i:05d}_scene_{scene_seed(SEED, i)}.rrd" for i in range(EPISODES))
+    assert names == sorted(f"episode_{i:05d}_scene_{scene_seed(SEED, i)}.rrd" for i in range(EPISODES))
     for p in recs.glob("*.rrd"):
         summary = summarize_recording(p)
-        assert summary["/world/objects"].logs >= 1 and summary["/timeline/picks"].logs >= 1
+        assert summary["/world/objects"].logs >= 1
 
 
 def test_record_without_lerobot_refuses_before_simulating(tmp_path):

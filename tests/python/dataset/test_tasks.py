@@ -2,7 +2,7 @@
 
 from types import SimpleNamespace
 
-from grasp_pipeline.dataset.tasks import TargetDescriber, object_phrase, task_text
+from grasp_pipeline.dataset.tasks import object_phrase, task_text
 from grasp_pipeline.objects.builtin import builtin_object
 from grasp_pipeline.sim.scene_spec import ObjectSpec
 
@@ -28,10 +28,3 @@ def test_without_a_colour_name_the_rgba_is_named_with_the_resolvers_words():
 
 def test_without_any_colour_the_colour_is_omitted():
     assert object_phrase(SimpleNamespace(kind="cylinder", category="")) == "cylinder"
-
-
-def test_describer_uses_the_evaluated_object_else_the_nearest_truth():
-    objs = [_spec(name="a", kind="cube"), _spec(name="b", kind="cylinder", rgba=(0.1, 0.7, 0.2, 1.0))]
-    d = TargetDescriber(world=None, objects=objs, template=TEMPLATE)
-    assert d(SimpleNamespace(object="b", anchor=[0.5, 0.0])) == ("pick up the green cylinder and put it in the tray", "b")
-    assert d(SimpleNamespace(object="gone", anchor=None)) == ("pick up the object and put it in the tray", "gone")

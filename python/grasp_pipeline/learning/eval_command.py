@@ -1,0 +1,235 @@
+"""``grasp-pipeline eval``: a policy's success in the environment, closed loop, on seeded scenes.
+
+``eval --policy DIR|reference --protocol sparse|packed|pile [--objects builtin|DIR] --episodes N
+--seed K [--workers W] [--backend local|ray --address H:P] [--max-steps M] [--device cpu|cuda]
+--out DIR [--no-video] [--image-size PX] [--fps N] [--depth] [--config FILE] [--set ...]``
+
+``--policy DIR``: a policy saved by LeRobot (``save_pretrained`` with its pre/post-processors,
+e.g. by ``grasp-pipeline train``); ``reference``: the pipeline itself acting through the
+environment's actions (:mod:`.reference_policy`), the ceiling to compare with. Episode ``i`` is
+the environment's episode on the scene of seed ``scene_seed(K, i)`` (as ``record``: evaluate on
+another ``--seed`` than the training data's for scenes the policy never saw), played until the
+target rests in the tray or the time limit (``env.yaml`` ``time_limit_s``, or ``--max-steps``).
+Jobs of ``env.yaml`` ``episodes_per_job`` episodes run in worker processes (or on Ray); each
+loads the policy once.
+
+Everything the run needs is checked before any simulation (a one-line error): the output
+folder (new or empty), the protocol and object set, the policy folder and its input features
+against the environment's observations (key and shape). ``--out`` receives ``eval.json``
+(:mod:`.eval_report`: success rate with a 95 % interval, per task word and per object, failure
+reasons, steps and seconds per episode, every episode), ``summary.md`` and
+``videos/episode_<i>_scene_<seed>.mp4`` (scene and wrist camera side by side). ``eval.json``
+is written (atomically) when the run starts (``"status": "running"``) and when it ends
+(``complete``, or ``interrupted`` with the ``phase`` and the episodes finished until then);
+an unfinished episode's video is removed.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import os
+import time
+from pathlib import Path
+from typing import Optional
+
+from ..exceptions import InputError
+
+log = logging.getLogger(__name__)
+
+REPORT_FILE = "eval.json"
+SUMMARY_FILE = "summary.md"
+VIDEOS = "videos"
+#: Where the workers put each finished episode's result until the report holds them.
+RESULTS = ".episodes"
+
+
+def _eval_task(task: tuple) -> dict:
+    from .eval_job import run_eval_job
+
+    return run_eval_job(task[1])
+
+
+def _failed_job(task: tuple, error: str, wall_s: float) -> dict:
+    return {"index": task[0], "episodes": [], "error": error, "timings": {"wall_s": wall_s}}
+
+
+def _postfix(records: list[dict]) -> str:
+    eps = [e for r in records for e in r["episodes"]]
+    return f"success {sum(bool(e.get('success')) for e in eps)} / {len(eps)}"
+
+
+def _jobs():
+    from ..bench.scheduler import JobSpec
+
+    return JobSpec(run_fn=_eval_task, failed_fn=_failed_job, postfix_fn=_postfix, desc="eval", tag="job")
+
+
+def check_policy(policy: str, env, device: str) -> str:
+    """``reference`` or the policy folder (as a string), checked against ``env``'s spaces."""
+    if policy == "reference":
+        return policy
+    from ..dataset.lerobot_writer import require_lerobot
+    from .compatibility import check_policy_features, policy_config
+
+    require_lerobot()
+    cfg = policy_config(policy)
+    check_policy_features(cfg, env.observation_space, env.action_space)
+    if device == "cuda":
+        import torch
+
+        if not torch.cuda.is_available():
+            raise InputError("--device cuda: torch finds no CUDA device here (use --device cpu)")
+    return str(Path(policy).resolve())
+
+
+def check_inputs(a: dict):
+    """The settings and the environment (not reset); :class:`InputError` before simulating."""
+    from ..dataset.record_settings import record_overrides, record_settings
+    from ..report.serialize import check_writable_dir
+    from .pick_env import PickPlaceEnv, check_protocol
+
+    check_protocol(a["protocol"])
+    if a["episodes"] < 1 or a["workers"] < 1:
+        raise InputError("--episodes and --workers must be >= 1")
+    if a["device"] not in ("cpu", "cuda"):
+        raise InputError(f"--device must be cpu or cuda, got {a['device']!r}")
+    out = a["out"]
+    if out.exists() and (not out.is_dir() or any(out.iterdir())):
+        raise InputError(f"--out {out} exists and is not an empty folder: choose a new folder")
+    check_writable_dir(out, "output folder (--out)")
+    settings = record_settings(record_overrides(a["overrides"], a["fps"], a["image_size"]))
+    env = PickPlaceEnv(a["protocol"], a["objects"], a["depth"], settings=settings,
+                       max_episode_steps=a["max_steps"])
+    env.object_models()  # a bad object folder fails here (MeshError naming the file)
+    return settings, env
+
+
+def _tasks(a: dict, per_job: int, overrides: tuple) -> list[tuple]:
+    from ..bench.grasp_bench import scene_seed
+
+    videos = None if not a["video"] else str(a["out"] / VIDEOS)
+    out = []
+    for j in range(math.ceil(a["episodes"] / per_job)):
+        eps = [(i, scene_seed(a["seed"], i)) for i in range(j * per_job, min((j + 1) * per_job, a["episodes"]))]
+        out.append((j, {"index": j, "episodes": eps, "policy": a["policy"], "device": a["device"],
+                        "protocol": a["protocol"], "objects": str(a["objects"]), "depth": a["depth"],
+                        "max_steps": a["max_steps"], "overrides": overrides, "videos_dir": videos,
+                        "results_dir": str(a["out"] / RESULTS)}))
+    return out
+
+
+def finished_episodes(out: Path) -> list[dict]:
+    """The results the workers saved, by episode index (a job stopped midway keeps its
+    finished episodes)."""
+    import json
+
+    return [json.loads(p.read_text()) for p in sorted((out / RESULTS).glob("episode_*.json"))]
+
+
+def _report(a: dict, status: str, phase: Optional[str], jobs: list, t0: float, settings) -> dict:
+    from .eval_report import figures
+
+    episodes = finished_episodes(a["out"])
+    for e in episodes:
+        if e.get("video"):
+            e["video"] = os.path.relpath(e["video"], a["out"])
+    errors = [f"job {r['index']}: {r['error']}" for r in jobs if r.get("error")]
+    fig = figures(episodes, settings.record.task_template) if episodes else {}
+    return {"status": status, "phase": phase, "policy": a["policy"], "protocol": a["protocol"],
+            "objects": str(a["objects"]), "seed": a["seed"], "episodes_requested": a["episodes"],
+            "episodes_finished": len(episodes), **fig, "max_steps": a["max_steps"],
+            "fps": settings.record.record_fps_hz, "image_size": [settings.record.image_height_px,
+                                                                settings.record.image_width_px],
+            "device": a["device"], "workers": a["workers"], "backend": a["backend"],
+            "wall_s": round(time.perf_counter() - t0, 3), "errors": errors, "episodes": episodes}
+
+
+def _write_text(path: Path, text: str) -> None:
+    """Write ``text`` to ``path`` atomically (a temporary file renamed)."""
+    tmp = path.with_name(f".{path.name}.tmp")
+    tmp.write_text(text, encoding="utf-8")
+    os.replace(tmp, path)
+
+
+def _write(a: dict, report: dict) -> None:
+    """``summary.md`` then ``eval.json`` (both atomically); no unfinished video and no worker
+    results (the report holds them) left."""
+    import shutil
+
+    from ..report.serialize import write_json
+    from .eval_report import summary_markdown
+    from .rollout import PARTIAL
+
+    for p in (a["out"] / VIDEOS).glob(f"*{PARTIAL}*"):
+        p.unlink(missing_ok=True)
+    _write_text(a["out"] / SUMMARY_FILE, summary_markdown(report))
+    write_json(a["out"] / REPORT_FILE, report)
+    shutil.rmtree(a["out"] / RESULTS, ignore_errors=True)
+
+
+def _run(a: dict, t0: float) -> tuple[dict, object]:
+    """Check, load, simulate; (report, settings). Interrupted: the report says in which phase."""
+    from ..bench.scheduler import run_jobs
+    from ..report.serialize import write_json
+
+    phase, rows, settings = "loading", [], None
+    try:
+        settings, env = check_inputs(a)
+        a["policy"] = check_policy(a["policy"], env, a["device"])
+        a["max_steps"] = env._max_episode_steps
+        env.close()
+        write_json(a["out"] / REPORT_FILE, _report(a, "running", "simulating", [], t0, settings))
+        phase = "simulating"
+        jobs = _tasks(a, settings.env.episodes_per_job, a["overrides"])
+        rows, interrupted = run_jobs(jobs, _jobs(), min(a["workers"], len(jobs)), a["job_timeout_s"],
+                                     a["progress"], a["backend"], a["address"])
+    except KeyboardInterrupt:
+        if settings is None:
+            raise  # nothing was written yet: there is nothing to report
+        interrupted = True
+    status = "interrupted" if interrupted else "complete"
+    return _report(a, status, phase if interrupted else None, rows, t0, settings), settings
+
+
+def evaluate(policy: str, protocol: str = "sparse", objects: str = "builtin", episodes: int = 10,
+             seed: int = 0, workers: int = 1, out: str | Path = "out/eval", backend: str = "local",
+             address: Optional[str] = None, max_steps: Optional[int] = None, device: str = "cpu",
+             video: bool = True, image_size: Optional[int] = None, fps: Optional[int] = None,
+             depth: bool = False, overrides: tuple = (None, ()), progress: bool = True,
+             job_timeout_s: float = 3600.0) -> dict:
+    """Evaluate ``policy`` (see the module doc); returns the report."""
+    from ..app.run_command import sigterm_as_interrupt
+    from . import require_gymnasium
+
+    require_gymnasium()  # before anything else: the environment is Gymnasium's
+    a = {"policy": str(policy), "protocol": protocol, "objects": objects, "episodes": int(episodes),
+         "seed": int(seed), "workers": int(workers), "out": Path(out), "backend": backend,
+         "address": address, "max_steps": max_steps, "device": device, "video": bool(video),
+         "image_size": image_size, "fps": fps, "depth": bool(depth), "overrides": overrides,
+         "progress": progress, "job_timeout_s": job_timeout_s}
+    t0 = time.perf_counter()
+    with sigterm_as_interrupt():
+        report, _settings = _run(a, t0)
+        try:
+            _write(a, report)
+        except KeyboardInterrupt:
+            report = {**report, "status": "interrupted", "phase": "writing"}
+            _write(a, report)
+            raise
+    return report
+
+
+def eval_main(args) -> int:
+    """The ``eval`` sub-command: prints the headline; exit code 0 when complete, 130 when
+    interrupted."""
+    report = evaluate(args.policy, protocol=args.protocol, objects=args.objects, episodes=args.episodes,
+                      seed=args.seed, workers=args.workers, out=args.out, backend=args.backend,
+                      address=args.address, max_steps=args.max_steps, device=args.device,
+                      video=not args.no_video, image_size=args.image_size, fps=args.fps, depth=args.depth,
+                      overrides=(args.config, args.sets), progress=not args.no_progress,
+                      job_timeout_s=args.job_timeout)
+    ci = report.get("ci95", [0.0, 1.0])
+    print(f"{report['status']}: {report.get('successes', 0)} / {report['episodes_finished']} episodes "
+          f"successful (95 % interval {ci[0]:.2f}–{ci[1]:.2f}); report {Path(args.out) / REPORT_FILE}")
+    return 0 if report["status"] == "complete" else 130

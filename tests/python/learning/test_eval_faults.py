@@ -1,0 +1,100 @@
+"""``eval`` interrupted in each phase leaves a valid report that says so (``eval.json`` with
+``"status": "interrupted"`` and the phase, ``summary.md``), the finished episodes with their
+videos, and no unfinished video:
+
+* while loading the policy: a report with no episode;
+* while simulating (Ctrl-C from a terminal, the installed command): the finished episodes;
+* while writing the report: the report again, saying it was interrupted while writing.
+"""
+
+from __future__ import annotations
+
+import json
+import signal
+import subprocess
+import time
+from pathlib import Path
+
+import pytest
+
+import grasp_pipeline.learning.eval_command as eval_command
+from recorded import EXE, IMAGE_PX, clean_env
+
+
+def _as_from_a_terminal() -> None:
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+def _files(out):
+    return sorted(str(p.relative_to(out)) for p in out.rglob("*") if p.is_file())
+
+
+def test_interrupted_while_loading_the_policy(tmp_path, monkeypatch):
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(eval_command, "check_policy", interrupted)
+    report = eval_command.evaluate("reference", episodes=2, out=tmp_path / "ev", progress=False)
+    assert report["status"] == "interrupted" and report["phase"] == "loading"
+    assert json.loads((tmp_path / "ev/eval.json").read_text())["episodes_finished"] == 0
+    assert _files(tmp_path / "ev") == ["eval.json", "summary.md"]
+
+
+def test_interrupted_while_simulating_keeps_the_finished_episodes(trained_policy, tmp_path):
+    args = [str(EXE), "eval", "--policy", str(trained_policy[0]), "--episodes", "3", "--seed", "5",
+            "--max-steps", "30", "--no-progress", "--image-size", str(IMAGE_PX),
+            "--set", "sim.object_count=[1,1]", "--set", "env.episodes_per_job=1", "--out", "ev"]
+    proc = subprocess.Popen(args, cwd=tmp_path, env=clean_env(tmp_path), stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, stdin=subprocess.DEVNULL,
+                            preexec_fn=_as_from_a_terminal)
+    seen, t_end = "", time.monotonic() + 900
+    while "episode 0 (scene" not in seen and time.monotonic() < t_end:
+        line = proc.stderr.readline()
+        if not line:
+            break
+        seen += line
+    assert "episode 0 (scene" in seen, seen[-3000:]
+    running = json.loads((tmp_path / "ev/eval.json").read_text())
+    assert running["status"] == "running"                       # a report exists from the start
+    time.sleep(1.0)
+    proc.send_signal(signal.SIGINT)
+    _, rest = proc.communicate(timeout=600)
+    assert proc.returncode == 130 and "Traceback" not in rest, (seen + rest)[-3000:]
+    report = json.loads((tmp_path / "ev/eval.json").read_text())
+    assert report["status"] == "interrupted" and report["phase"] == "simulating"
+    assert 1 <= report["episodes_finished"] < 3
+    videos = [f for f in _files(tmp_path / "ev") if f.startswith("videos/")]
+    assert videos == sorted(e["video"] for e in report["episodes"])   # no unfinished (.partial) video
+    assert "interrupted" in (tmp_path / "ev/summary.md").read_text()
+
+
+def test_interrupted_while_writing_the_report(tmp_path, monkeypatch):
+    import grasp_pipeline.bench.scheduler as scheduler
+
+    episode = {"index": 0, "scene_seed": 1, "task": "pick up the red cube and put it in the tray",
+               "target": "cube_0", "target_model": "cube", "success": True, "terminated": True,
+               "truncated": False, "failed_stage": "", "failure_reason": "", "target_state": "in the tray",
+               "steps": 200, "sim_s": 13.3, "wall_s": 9.0, "video": None, "error": None, "extra": {}}
+    def run_jobs(tasks, *args, **kwargs):  # a worker's finished episode, saved as workers save it
+        from grasp_pipeline.report.serialize import write_json
+
+        write_json(Path(tasks[0][1]["results_dir"]) / "episode_00000.json", episode)
+        return [{"index": 0, "episodes": [episode], "error": None}], False
+
+    monkeypatch.setattr(scheduler, "run_jobs", run_jobs)
+    calls = []
+    original = eval_command._write_text
+
+    def write_text(path, text):
+        calls.append(path)
+        if len(calls) == 1:
+            raise KeyboardInterrupt
+        original(path, text)
+
+    monkeypatch.setattr(eval_command, "_write_text", write_text)
+    with pytest.raises(KeyboardInterrupt):
+        eval_command.evaluate("reference", episodes=1, out=tmp_path / "ev", progress=False, video=False)
+    report = json.loads((tmp_path / "ev/eval.json").read_text())
+    assert report["status"] == "interrupted" and report["phase"] == "writing"
+    assert report["episodes_finished"] == 1 and report["successes"] == 1
+    assert _files(tmp_path / "ev") == ["eval.json", "summary.md"]
