@@ -7,8 +7,8 @@ it perceives through the simulator's eye-in-hand camera and contact monitor as `
 and reads the task sentence — never the target's name or pose. One episode: a rough view from
 the start pose, the active scan (``env.yaml`` ``reference_scan``), the task's object resolved
 among the perceived objects by its description (:mod:`grasp_pipeline.language`: the words of
-the task the resolver knows; when no perceived object fits both its colour and its shape, by
-the colour alone — perceived shapes are coarser than object categories), then up to
+the task the resolver knows, relaxed step by step when they name no single object:
+:mod:`.task_resolution`), then up to
 ``reference_attempts`` picks of it into the tray;
 after its last attempt it holds still for ``reference_wait_s``. The environment ends the
 episode when the target rests in the tray (or at its time limit).
@@ -133,31 +133,26 @@ def _scan(system, settings) -> None:
     system.rt.spin(settings.scan.settle_view_s)
 
 
-def relaxed_descriptions(description: str, language_config) -> list[str]:
-    """``description``, then — when it names a colour and a shape — the colour alone."""
-    from ..language import parse
-
-    wanted = parse(description, language_config)
-    if wanted.colour and wanted.shape:
-        return [description, f"the {wanted.colour} object"]
-    return [description]
-
-
 def _resolve(system, settings, description: str, observations):
     """((x, y) of the perceived object the description names, "") or (None, why not)."""
     from ..language import LanguageError, NoMatchError, perceive_objects, resolve_picks
+    from ..language.exceptions import AmbiguousDescriptionError
+    from .task_resolution import resolution_ladder
 
     margin = settings.grasp.target_fixture_margin_m
     tracks = [t for t in system.loop.tracks()
               if system.cell.pick_target_note(t.smoothed.center[:2], margin) is None]
     objects = perceive_objects(tracks, observations, settings.language)
-    refusals = []
-    for d in relaxed_descriptions(description, settings.language):
+    refusals: list[str] = []
+    for d, among in resolution_ladder(description, objects, settings.language):
+        if not among:
+            continue
         try:
-            (xy,) = resolve_picks([d], objects, [], settings.language)
+            (xy,) = resolve_picks([d], among, [], settings.language)
             return xy, ""
-        except NoMatchError as exc:
-            refusals.append(str(exc))
+        except (NoMatchError, AmbiguousDescriptionError) as exc:
+            if str(exc) not in refusals:
+                refusals.append(str(exc))
         except LanguageError as exc:
             return None, "; then ".join(refusals + [str(exc)])
     return None, "; then ".join(refusals)
