@@ -27,8 +27,8 @@ from ..objects.catalog import model_notes
 from ..orchestration import (GeometricGraspSource, GraspSource, PickContext, StageEvent,
                              default_targets, pick_object)
 from ..orchestration.declutter import clear_table
-from ..orchestration.targets import rough_view_ids
-from ..orchestration.tracks import track_summary
+from ..orchestration.scene.targets import rough_view_ids
+from ..orchestration.scene.tracks import track_summary
 from ..report.output_lock import output_claim
 from ..report.serialize import check_writable, check_writable_dir, write_json
 from ..report.rerun_recorder import RerunRecorder, check_recording_path, import_rerun

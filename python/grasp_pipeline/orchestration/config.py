@@ -11,8 +11,8 @@ from ..config_ranges import (FORCE_N, OPENING_M, POSITIVE_FRACTION, Range, angle
                              check_ranges, count, duration_s, length_m, require, step_m)
 from ..exceptions import ConfigError
 
-#: What makes a segment ambiguous (:mod:`.ambiguity`): a footprint wider than the gripper in
-#: every direction; a non-convex outline.
+#: What makes a segment ambiguous (:mod:`.scanning.ambiguity`): a footprint wider than the
+#: gripper in every direction; a non-convex outline.
 CLOSER_LOOK_RULES = ("wide", "non_convex")
 
 

@@ -15,7 +15,7 @@
    must not look like success);
 4. (ours) when a side view is configured (``PickContext.side_view``) and the target's sides
    are mostly unknown in the scene volume, look at them first (:mod:`.side_view`);
-5. ask the :class:`~.grasp_source.GraspSource` for candidates and run the grasp action; after
+5. ask the :class:`~.grasping.source.GraspSource` for candidates and run the grasp action; after
    an attempt, the scene volume forgets the target's surroundings (objects may have moved).
 
 It publishes ``StageEvent("pick_start", "x y")`` when the grasp starts and a
@@ -35,12 +35,13 @@ import numpy as np
 from .. import _core
 from ..results import PickResult
 from .events import PickEvent, StageEvent
-from .place import recover
-from .grasp_source import GeometricGraspSource, GraspRequest, GraspSource
+from .execution.place import recover
 from .grasping.reach import ArmReach
-from .scene_model import snapshot
-from .selection import check_selection
-from .side_view import look_at_sides
+from .grasping.source import GraspRequest, GraspSource
+from .grasping.top_down import GeometricGraspSource
+from .scanning.side_view import look_at_sides
+from .scene.scene_model import snapshot
+from .scene.selection import check_selection
 
 log = logging.getLogger("grasp_pipeline.pick")
 
