@@ -9,8 +9,8 @@ sub-packages follow the data flow:
 * :mod:`.scanning` — looking at the scene: the active scan (:class:`ActiveScan`, SPEC 6), the
   closer look at ambiguous segments, the side view;
 * :mod:`.grasping` — where grasps come from: the :class:`GraspSource` protocol
-  (:mod:`.grasping.source`) and its sources (any-side, top-down, fixed); the point checks
-  they share;
+  (:mod:`.grasping.source`) and its sources (any-side, top-down, fixed), selected by
+  ``grasp.grasp_source`` (:mod:`.grasping.registry`); the point checks they share;
 * :mod:`.execution` — acting: the grasp action (:class:`GraspAction`, SPEC 7 + PLACE) and its
   stages (:class:`GraspStage`), grasp planning, gripper moves, placing into the tray,
   :class:`MotionClient`.

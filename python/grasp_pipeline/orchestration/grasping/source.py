@@ -12,6 +12,8 @@ motion or execution changes. The sources of the package, one module each:
 * :class:`~.top_down.GeometricGraspSource` (``grasp.grasp_source: top_down``) — top-down
   grasps fitted to the points, then SPEC 3's grasp from the target's box;
 * :class:`~.fixed.FixedGraspSource` — a fixed list of poses (known grasps, a replay, a test).
+
+:mod:`.registry` names the ones ``grasp.grasp_source`` (``config/grasp.yaml``) may select.
 """
 
 from __future__ import annotations
