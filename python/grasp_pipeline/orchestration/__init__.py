@@ -12,7 +12,7 @@ sub-packages follow the data flow:
   (:mod:`.grasping.source`) and its sources (any-side, top-down, fixed), selected by
   ``grasp.grasp_source`` (:mod:`.grasping.registry`); the point checks they share;
 * :mod:`.execution` — acting: the grasp action (:class:`GraspAction`, SPEC 7 + PLACE) and its
-  stages (:class:`GraspStage`), grasp planning, gripper moves, placing into the tray,
+  stages (:class:`Stage`), grasp planning, gripper moves, placing into the tray,
   :class:`MotionClient`.
 
 At the top: the runtime (:class:`Runtime`), the events recorders subscribe to
@@ -22,7 +22,7 @@ At the top: the runtime (:class:`Runtime`), the events recorders subscribe to
 
 * :class:`Runtime`, :class:`EventBus` and the event types;
 * :class:`PerceptionLoop`, :class:`Selector`, :func:`default_targets`;
-* :class:`ActiveScan`; :class:`GraspAction` with :class:`GraspStage`;
+* :class:`ActiveScan`; :class:`GraspAction` with :class:`Stage` (``GraspStage``: the same);
 * :class:`GraspSource` and :class:`GraspRequest` with :class:`GeometricGraspSource` and
   :class:`FixedGraspSource`;
 * :func:`pick_object` with :class:`PickContext`;
@@ -34,6 +34,7 @@ from .events import (EventBus, FrameEvent, GraspEvent, PerceptionEvent, PickEven
                      StageEvent, Tick)
 from .execution.grasp_action import GraspAction, GraspStage
 from .execution.motion_client import MotionClient
+from .execution.stages import Stage
 from .grasping.fixed import FixedGraspSource
 from .grasping.source import GraspRequest, GraspSource
 from .grasping.top_down import GeometricGraspSource
@@ -48,6 +49,6 @@ __all__ = [
     "ActiveScan", "EventBus", "FixedGraspSource", "FrameEvent", "GeometricGraspSource",
     "GraspAction", "GraspConfig", "GraspEvent", "GraspRequest", "GraspSource", "GraspStage", "MotionClient",
     "PerceptionEvent", "PerceptionLoop", "PickContext", "PickEvent", "PlanEvent", "Runtime",
-    "ScanConfig", "ScanStage", "SelectResult", "Selector", "StageEvent", "Task", "Tick",
+    "ScanConfig", "ScanStage", "SelectResult", "Selector", "Stage", "StageEvent", "Task", "Tick",
     "default_targets", "pick_object",
 ]

@@ -22,7 +22,6 @@ chosen at PRE_GRASP as a :class:`~.events.GraspEvent`.
 
 from __future__ import annotations
 
-import enum
 import logging
 from typing import Optional, Sequence
 
@@ -45,19 +44,15 @@ from .gripper_moves import (ObjectDropped, StageFailure, close_until_stall, hold
                             wait_gap, watch_held)
 from .place import place_in_tray, recover
 from .place_config import PlaceConfig
+from .stages import Stage
 
 log = logging.getLogger("grasp_pipeline.grasp")
 
 __all__ = ["GraspAction", "GraspStage", "StageFailure"]
 
 
-class GraspStage(enum.Enum):
-    PRE_GRASP = "PRE_GRASP"
-    APPROACH = "APPROACH"
-    CLOSE = "CLOSE"
-    LIFT = "LIFT"
-    DONE = "DONE"
-    PLACE = "PLACE"
+#: the grasp action's stages are :class:`~.stages.Stage` members (PRE_GRASP … PLACE)
+GraspStage = Stage
 
 
 def grasp_summary(grasp, plane) -> dict:
@@ -101,7 +96,7 @@ class GraspAction:
         self.work_cell = work_cell
         self.home_q = None if home_q is None else np.asarray(home_q, float)
         self.events = events if events is not None else EventBus()
-        self.stage: Optional[GraspStage] = None
+        self.stage: Optional[Stage] = None
         self.task: Optional[Task] = None
         self.placed_count = 0
         # tracks of objects already lifted off the table → where they were lifted from [m]
@@ -122,7 +117,7 @@ class GraspAction:
         """Start a grasp of ``grasp`` (default: the latest published best grasp), then the
         ``alternatives`` in order when it cannot be planned. Returns (accepted, message)."""
         if self.task is not None and not self.task.done:
-            return False, f"grasp refused: a grasp is running (stage {self.stage.value})"
+            return False, f"grasp refused: a grasp is running (stage {self.stage})"
         if grasp is None:
             if self.loop.report_if_stale(self.robot.time_s):
                 return False, "grasp refused: perception is stale (no recent camera frame)"
@@ -134,25 +129,25 @@ class GraspAction:
         return True, "grasp started"
 
     # ---- the task ---------------------------------------------------------------
-    def _enter(self, out: GraspOutcome, stage: GraspStage) -> None:
+    def _enter(self, out: GraspOutcome, stage: Stage) -> None:
         self.stage = stage
         t = round(float(self.robot.time_s), 4)
-        out.stages.append((stage.value, t))
-        log.info("grasp stage %s", stage.value)
-        self.events.publish(StageEvent(t, stage.value, perception=self.loop))
+        out.stages.append((stage, t))
+        log.info("grasp stage %s", stage)
+        self.events.publish(StageEvent(t, stage, perception=self.loop))
 
     def _run(self, candidates: list, place: bool):
         out = GraspOutcome(width_m=float(candidates[0].width_m))
         try:
             yield from self._grasp(candidates, out)
             out.success = True
-            self._enter(out, GraspStage.DONE)
+            self._enter(out, Stage.DONE)
             if place and self.work_cell is not None and self.work_cell.tray_center_m is not None:
-                self._enter(out, GraspStage.PLACE)
+                self._enter(out, Stage.PLACE)
                 yield from place_in_tray(self, out)
                 out.placed = True
         except GraspPipelineError as exc:
-            out.failed_stage = self.stage.value if self.stage else None
+            out.failed_stage = self.stage
             if isinstance(exc, ObjectDropped):  # a drop while carrying: not picked
                 out.success = False
             out.message = f"{out.failed_stage} failed: {exc}"
@@ -200,7 +195,7 @@ class GraspAction:
         cfg, robot, motion = self.config, self.robot, self.motion
         self.held_points_tcp = None
         target_tid, scene = self._set_scene(candidates[0])
-        self._enter(out, GraspStage.PRE_GRASP)
+        self._enter(out, Stage.PRE_GRASP)
         plan = self._plan(candidates)
         self.backoff_m = plan.backoff_m
         plane = self.loop.plane
@@ -213,17 +208,17 @@ class GraspAction:
         yield from wait_gap(robot, opening, cfg)  # the fingers as planned before the arm moves
         yield from motion.execute("pre_grasp", plan.pre_grasp)
 
-        self._enter(out, GraspStage.APPROACH)
+        self._enter(out, Stage.APPROACH)
         yield from motion.execute("approach", plan.approach, ContactAllowance.FINGERS)
 
-        self._enter(out, GraspStage.CLOSE)
+        self._enter(out, Stage.CLOSE)
         out.stall_gap_m = yield from close_until_stall(robot, float(plan.grasp.width_m), cfg)
         motion.planner.set_finger_opening(out.stall_gap_m)
         k = scene.index_of(target_tid)
         if k is not None:
             self.picked_at[target_tid] = np.asarray(scene.boxes[k].center[:2], float).copy()
 
-        self._enter(out, GraspStage.LIFT)
+        self._enter(out, Stage.LIFT)
         yield from self._lift(plan, out)
         yield from self._hold_check(out)
         self._attach_held(plan)
@@ -239,11 +234,11 @@ class GraspAction:
         held = ContactAllowance.HELD_OBJECT
         try:
             yield from self.carrying(motion.line(T_lift, kind="lift", allow_target_contact=True,
-                                                 allowance=held), out, "LIFT")
+                                                 allowance=held), out, Stage.LIFT)
         except StartStateInvalidError as exc:
             log.warning("lift line refused (%s); lifting straight up", exc)
             yield from self.carrying(motion.escape_up(cfg.lift_height_m, kind="lift", allowance=held),
-                                     out, "LIFT")
+                                     out, Stage.LIFT)
 
     def _up(self) -> np.ndarray:
         """The table normal (world z before a plane is known)."""
@@ -279,7 +274,7 @@ class GraspAction:
                                            plan.T_grasp.copy(), plan.backoff_m))
         return plan
 
-    def carrying(self, motion_gen, out: GraspOutcome, stage: str):
+    def carrying(self, motion_gen, out: GraspOutcome, stage: Stage):
         """Task: a motion with the object in hand, aborted when the object drops."""
         return (yield from watch_held(self.robot, motion_gen, out.stall_gap_m, self.config, stage))
 

@@ -40,6 +40,7 @@ from ...robot.description import GRIPPER_MAX_WIDTH_M
 from ...robot.protocols import ContactAllowance
 from ..runtime import wait_s
 from .gripper_moves import ObjectDropped
+from .stages import Stage
 from .tray import TrayContents, TrayGeometry
 from .tray_check import PlaceNotSeen, arrival_verdict, look_into_tray
 from .tray_spots import HeldShape, Spot, free_spots, preferred_positions
@@ -120,7 +121,7 @@ def _carry_up(action, out: GraspOutcome, plane_z_m: float):
     T_up[2, 3] = plane_z_m + cfg.carry_height_m
     try:
         yield from action.carrying(motion.line(T_up, kind="carry_up", allow_target_contact=True,
-                                               allowance=HELD), out, "PLACE")
+                                               allowance=HELD), out, Stage.PLACE)
         return
     except ObjectDropped:
         raise
@@ -133,7 +134,7 @@ def _carry_up(action, out: GraspOutcome, plane_z_m: float):
     except MotionError as exc:  # e.g. far from the base, a tilted grasp's pose up there
         log.warning("the pose above the grasp is out of reach (%s); carrying from here", exc)
         return
-    yield from action.carrying(motion.execute("carry_up", traj, HELD), out, "PLACE")
+    yield from action.carrying(motion.execute("carry_up", traj, HELD), out, Stage.PLACE)
 
 
 def _support_z_m(tray: TrayContents, shape: HeldShape, T: np.ndarray) -> float:
@@ -170,7 +171,7 @@ def _arrive(action, out: GraspOutcome, spot: Spot, shape: HeldShape, errors: lis
             except MotionError as exc:  # far spots are near the arm's reach
                 errors.append(str(exc))
                 continue
-            yield from action.carrying(motion.execute("place", traj, HELD), out, "PLACE")
+            yield from action.carrying(motion.execute("place", traj, HELD), out, Stage.PLACE)
             return T
     return None
 
@@ -216,7 +217,7 @@ def _lower(action, out: GraspOutcome, T_above: np.ndarray, shape: HeldShape, not
     if traj is None:
         return True
     try:
-        yield from action.carrying(motion.execute("place_down", traj, HELD), out, "PLACE")
+        yield from action.carrying(motion.execute("place_down", traj, HELD), out, Stage.PLACE)
     except ObjectDropped as exc:  # pushed out of the fingers by what lies in the tray: released
         log.warning("the object left the fingers while being lowered into the tray (%s); it is "
                     "released there", exc)
@@ -242,7 +243,7 @@ def _back_up(action, out: GraspOutcome):
     T[2, 3] += action.place_config.lower_backoff_m
     try:
         yield from action.carrying(motion.line(T, kind="place_back_up", allowance=HELD,
-                                               release_contacts=True), out, "PLACE")
+                                               release_contacts=True), out, Stage.PLACE)
     except ObjectDropped:
         raise
     except GraspPipelineError as exc:
@@ -250,7 +251,7 @@ def _back_up(action, out: GraspOutcome):
         motion.sync()
         yield from action.carrying(motion.escape_up(action.place_config.lower_backoff_m,
                                                     kind="place_back_up", allowance=HELD),
-                                   out, "PLACE")
+                                   out, Stage.PLACE)
 
 
 def _put_down(action, out: GraspOutcome, spots: list, shape: HeldShape):
