@@ -37,7 +37,7 @@ SECTIONS: Mapping[str, tuple[str, str]] = MappingProxyType({
     "motion": ("grasp_pipeline.motion.config", "MotionConfig"),
     "scan": ("grasp_pipeline.orchestration.config", "ScanConfig"),
     "grasp": ("grasp_pipeline.orchestration.config", "GraspConfig"),
-    "place": ("grasp_pipeline.orchestration.place_config", "PlaceConfig"),
+    "place": ("grasp_pipeline.orchestration.execution.place_config", "PlaceConfig"),
     "declutter": ("grasp_pipeline.orchestration.config", "DeclutterConfig"),
     "grasp_fit": ("grasp_pipeline.orchestration.config", "GraspFitConfig"),
     "grasp_sampler": ("grasp_pipeline.orchestration.grasping.config", "SamplerConfig"),

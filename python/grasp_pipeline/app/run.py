@@ -24,11 +24,11 @@ from ..evaluation import scoring
 from ..evaluation.pick_evaluator import PickEvaluator
 from ..exceptions import GraspPipelineError
 from ..objects.catalog import model_notes
-from ..orchestration import (GeometricGraspSource, GraspSource, PickContext, StageEvent,
-                             default_targets, pick_object)
+from ..orchestration import GraspSource, PickContext, StageEvent, default_targets, pick_object
 from ..orchestration.declutter import clear_table
-from ..orchestration.targets import rough_view_ids
-from ..orchestration.tracks import track_summary
+from ..orchestration.grasping.registry import make_grasp_source
+from ..orchestration.scene.targets import rough_view_ids
+from ..orchestration.scene.tracks import track_summary
 from ..report.output_lock import output_claim
 from ..report.serialize import check_writable, check_writable_dir, write_json
 from ..report.rerun_recorder import RerunRecorder, check_recording_path, import_rerun
@@ -227,7 +227,7 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
     ``scene``: ``"reference"``, ``"random"``/``"sparse"``, ``"packed"``, ``"pile"`` (with
     ``seed``; packed/pile of the object set ``objects``: ``"builtin"`` or a path) or a
     ``SceneSpec``;
-    ``grasp_source``: where grasps come from (default: the geometric SPEC 3 grasp);
+    ``grasp_source``: where grasps come from (default: the one ``grasp.grasp_source`` names);
     ``prepare(system)``: called once the system is built, before anything runs (attach your
     own recorders to ``system.events``, or inject faults in tests);
     ``declutter``: instead of picking every target of the first look, clear the table one
@@ -311,14 +311,11 @@ def _write_early(report: RunReport, wall0: float, json_path) -> None:
 
 
 def default_grasp_source(settings: Settings) -> GraspSource:
-    """The grasp source ``grasp.grasp_source`` names: ``any_side`` — grasps from any side
-    within the sampler's tilt limit (:class:`~grasp_pipeline.orchestration.grasping.any_side.AnySideGraspSource`);
-    ``top_down`` — SPEC 3's top-down grasp fitted to the perceived points (``grasp_fit``)."""
-    if settings.grasp.grasp_source == "top_down":
-        return GeometricGraspSource(settings.grasp, fit=settings.grasp_fit, motion=settings.motion)
-    from ..orchestration.grasping.any_side import AnySideGraspSource
-
-    return AnySideGraspSource(settings.grasp_sampler, settings.grasp, settings.grasp_fit, settings.motion)
+    """The grasp source ``grasp.grasp_source`` names
+    (:mod:`~grasp_pipeline.orchestration.grasping.registry`): ``any_side`` — grasps from any
+    side within the sampler's tilt limit; ``top_down`` — SPEC 3's top-down grasp fitted to the
+    perceived points."""
+    return make_grasp_source(settings)
 
 
 def _finish(system: System, report: RunReport, recorders, wall0: float, json_path) -> None:

@@ -13,7 +13,7 @@ from ..motion.motion_planner import MotionPlanner
 from ..motion.work_cell import WorkCell
 from ..orchestration import (ActiveScan, EventBus, GraspAction, MotionClient, PerceptionLoop,
                              Runtime)
-from ..orchestration.side_view import SideView
+from ..orchestration.scanning.side_view import SideView
 from ..perception import PerceptionSession
 from ..perception.scene_volume import SceneVolume
 from ..robot.description import GRIPPER_MAX_WIDTH_M, flange_T_camera

@@ -5,7 +5,7 @@ for ``run`` (:func:`grasp_pipeline.app.sim_system.build_system`), the rough view
 the real :class:`~grasp_pipeline.orchestration.ActiveScan` probes every object (its motions
 are recorded), and then for every object the run would pick (its default targets) the grasp
 action's own planning
-(:func:`~grasp_pipeline.orchestration.grasp_planning.plan_grasp` on the candidates of the
+(:func:`~grasp_pipeline.orchestration.execution.grasp_planning.plan_grasp` on the candidates of the
 :class:`~grasp_pipeline.orchestration.GeometricGraspSource`) plans pre-grasp and approach;
 they are executed, followed by the lift line and the way back to the start joints. The
 gripper stays open (this measures motions, not grasps). Obstacles are perceived only.
@@ -28,11 +28,11 @@ import numpy as np
 from .. import _core
 from ..motion.exceptions import ExecutionError, MotionError
 from ..orchestration import GeometricGraspSource, GraspRequest, default_targets
-from ..orchestration.grasp_planning import plan_grasp
-from ..orchestration.scene_model import snapshot
-from ..orchestration.tracks import nearest_track
-from ..robot.description import GRIPPER_MAX_WIDTH_M
+from ..orchestration.execution.grasp_planning import plan_grasp
+from ..orchestration.scene.scene_model import snapshot
+from ..orchestration.scene.tracks import nearest_track
 from ..results import MotionRecord
+from ..robot.description import GRIPPER_MAX_WIDTH_M
 from ..robot.protocols import ContactAllowance
 
 log = logging.getLogger(__name__)

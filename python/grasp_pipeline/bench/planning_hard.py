@@ -33,7 +33,7 @@ MAX_SAMPLES_PER_PAIR = 2000
 def perceived_planner(seed: int, settings):
     """(system, motion planner) with the perceived packed scene after the rough view and scan."""
     from ..app.sim_system import build_system, make_scene
-    from ..orchestration.scene_model import snapshot
+    from ..orchestration.scene.scene_model import snapshot
 
     system = build_system(make_scene("packed", seed, settings), settings)
     try:

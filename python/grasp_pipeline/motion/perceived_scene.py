@@ -4,8 +4,8 @@
 everything that is not an accepted object), one oriented box per tracked object (with the
 track's id), each object's points in the latest frame (for modelling neighbours by their
 points, :mod:`.object_points`), the arm joints at capture (for removing the robot's own points)
-and the camera pose. It never holds simulator ground truth. ``grasp_pipeline.orchestration.scene_model``
-builds one from the perception loop.
+and the camera pose. It never holds simulator ground truth.
+``grasp_pipeline.orchestration.scene.scene_model`` builds one from the perception loop.
 """
 
 from __future__ import annotations

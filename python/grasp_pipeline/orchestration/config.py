@@ -10,9 +10,10 @@ from typing import ClassVar, Mapping
 from ..config_ranges import (FORCE_N, OPENING_M, POSITIVE_FRACTION, Range, angle_rad,
                              check_ranges, count, duration_s, length_m, require, step_m)
 from ..exceptions import ConfigError
+from .grasping.registry import grasp_source_names
 
-#: What makes a segment ambiguous (:mod:`.ambiguity`): a footprint wider than the gripper in
-#: every direction; a non-convex outline.
+#: What makes a segment ambiguous (:mod:`.scanning.ambiguity`): a footprint wider than the
+#: gripper in every direction; a non-convex outline.
 CLOSER_LOOK_RULES = ("wide", "non_convex")
 
 
@@ -61,10 +62,6 @@ class ScanConfig:
         if unknown:
             raise ConfigError(f"scan.closer_look_rules: unknown rule(s) {unknown}; "
                               f"choose from {list(CLOSER_LOOK_RULES)}")
-
-
-#: The grasp sources ``grasp.grasp_source`` may name.
-GRASP_SOURCES = ("any_side", "top_down")
 
 
 @dataclass(frozen=True)
@@ -131,9 +128,10 @@ class GraspConfig:
         require(self.held_min_force_N <= self.close_effort_N, "grasp", "held_min_force_N",
                 self.held_min_force_N, f"a force <= close_effort_N = {self.close_effort_N:g} N "
                 "(the grip cannot press harder than it closes)")
-        if self.grasp_source not in GRASP_SOURCES:
+        names = grasp_source_names()
+        if self.grasp_source not in names:
             raise ConfigError(f"grasp.grasp_source = {self.grasp_source!r}: expected one of "
-                              f"{', '.join(GRASP_SOURCES)}")
+                              f"{', '.join(names)}")
 
 
 

@@ -22,12 +22,12 @@ from typing import Callable, Optional
 import numpy as np
 
 from ..robot.description import hand_clearances
-from .accessibility import rank_by_accessibility
 from .config import DeclutterConfig
 from .events import StageEvent
+from .grasping.accessibility import rank_by_accessibility
 from .pick import PickContext, grasp_request, pick_object, return_to_start
-from .targets import default_targets
-from .tracks import nearest_track
+from .scene.targets import default_targets
+from .scene.tracks import nearest_track
 
 log = logging.getLogger("grasp_pipeline.declutter")
 
@@ -74,7 +74,7 @@ OFFER_NONE, OFFER_OTHER, OFFER_FITTED = 0, 1, 2
 
 def grasp_offer(ctx: PickContext, xy) -> int:
     """What the grasp source offers for the object at ``xy``: ``OFFER_FITTED`` when it fits a
-    grasp to the object's points (:mod:`.grasp_fit`), ``OFFER_OTHER`` when it proposes others
+    grasp to the object's points (:mod:`.grasping.fit`), ``OFFER_OTHER`` when it proposes others
     only (the box grasps whose fingers' descent is free; any grasp of a source that fits none),
     ``OFFER_NONE`` when it proposes nothing (that object is not attempted in this look)."""
     track, _ = nearest_track(ctx.loop.tracks(), xy)

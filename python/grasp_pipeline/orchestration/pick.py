@@ -15,7 +15,7 @@
    must not look like success);
 4. (ours) when a side view is configured (``PickContext.side_view``) and the target's sides
    are mostly unknown in the scene volume, look at them first (:mod:`.side_view`);
-5. ask the :class:`~.grasp_source.GraspSource` for candidates and run the grasp action; after
+5. ask the :class:`~.grasping.source.GraspSource` for candidates and run the grasp action; after
    an attempt, the scene volume forgets the target's surroundings (objects may have moved).
 
 It publishes ``StageEvent("pick_start", "x y")`` when the grasp starts and a
@@ -35,12 +35,14 @@ import numpy as np
 from .. import _core
 from ..results import PickResult
 from .events import PickEvent, StageEvent
-from .place import recover
-from .grasp_source import GeometricGraspSource, GraspRequest, GraspSource
+from .execution.place import recover
+from .execution.stages import Stage
 from .grasping.reach import ArmReach
-from .scene_model import snapshot
-from .selection import check_selection
-from .side_view import look_at_sides
+from .grasping.source import GraspRequest, GraspSource
+from .grasping.top_down import GeometricGraspSource
+from .scanning.side_view import look_at_sides
+from .scene.scene_model import snapshot
+from .scene.selection import check_selection
 
 log = logging.getLogger("grasp_pipeline.pick")
 
@@ -131,11 +133,11 @@ def _select_and_verify(ctx: PickContext, xy, row: PickResult):
     loop, scan_cfg = ctx.loop, ctx.settings.scan
     sel = loop.select(*xy)
     if not sel.ok:
-        row.failed_stage, row.message = "SELECT", sel.message
+        row.failed_stage, row.message = Stage.SELECT, sel.message
         return None
     if not ctx.rt.spin_until(lambda: loop.selector.published >= scan_cfg.select_verify_frames,
                              scan_cfg.stale_timeout_s, look=True):
-        row.failed_stage = "SELECT"
+        row.failed_stage = Stage.SELECT
         row.message = f"selected, but no best grasp arrived within {scan_cfg.stale_timeout_s} s"
         loop.selector.clear()
         return None
@@ -179,13 +181,13 @@ def _run_action(ctx: PickContext, xy, sel, row: PickResult, decline: bool = Fals
         if not grasps and _look_again_at_sides(ctx, xy, row):
             grasps = _candidates(ctx, xy, sel)
         if not grasps:
-            row.failed_stage, row.declined = "GRASP", decline
+            row.failed_stage, row.declined = Stage.GRASP, decline
             why = getattr(ctx.source, "last_refusal", "")
             row.message = f"grasp source {ctx.source.name!r} proposed no grasp" + (f": {why}" if why else "")
             return None
         ok, msg = action.start(grasps[0], place=ctx.place, alternatives=grasps[1:])
         if not ok:
-            row.failed_stage, row.message = "GRASP", msg
+            row.failed_stage, row.message = Stage.GRASP, msg
             return None
         # The action holds its goal now: stop re-resolving the anchor (once the object is
         # lifted there is nothing left to publish there, and that is no news).
@@ -198,11 +200,11 @@ def _run_action(ctx: PickContext, xy, sel, row: PickResult, decline: bool = Fals
             return out
         except TimeoutError as exc:  # the task was closed: the arm holds where it is
             rt.world.hold()
-            row.failed_stage = action.stage.value if action.stage else "GRASP"
+            row.failed_stage = action.stage if action.stage is not None else Stage.GRASP
             row.message = f"{exc}; the arm holds"
             return None
         finally:
-            if out is None or any(stage != "PRE_GRASP" for stage, _ in out.stages):
+            if out is None or any(stage != Stage.PRE_GRASP for stage, _ in out.stages):
                 _forget_attempted(ctx, attempted)  # the hand went down to the object
     finally:
         loop.selector.clear()

@@ -7,7 +7,7 @@ scores the number of the target's UNKNOWN shell voxels (:mod:`.side_coverage`) i
 inside its image and range, with no OCCUPIED voxel on the ray (a ray march through the
 volume; unknown voxels on the way do not block). Candidates are returned best first (ties:
 nearest the reference camera position, i.e. the shortest move); whether the arm reaches one
-is the motion layer's question (:mod:`grasp_pipeline.orchestration.side_view`).
+is the motion layer's question (:mod:`grasp_pipeline.orchestration.scanning.side_view`).
 """
 
 from __future__ import annotations

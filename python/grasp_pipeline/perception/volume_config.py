@@ -4,7 +4,7 @@
 around each measured surface, the log-odds update, which frames are integrated and what is
 forgotten after a grasp attempt. ``side_view_*``: when a target's sides count as unknown
 (:mod:`.side_coverage`), the candidate views around it (:mod:`.view_planner`) and the extra
-look (:mod:`grasp_pipeline.orchestration.side_view`).
+look (:mod:`grasp_pipeline.orchestration.scanning.side_view`).
 """
 
 from __future__ import annotations

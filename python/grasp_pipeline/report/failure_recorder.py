@@ -20,12 +20,13 @@ from pathlib import Path
 from typing import Callable, Optional
 
 from ..orchestration.events import EventBus, PickEvent, StageEvent
+from ..orchestration.execution.stages import Stage
 from .snapshot_recorder import draw_perception
 
 log = logging.getLogger("grasp_pipeline.snapshot")
 
 #: Failed stages after which the object is somewhere other than where it was grasped.
-AFTER_GRASP = ("PLACE", "VERIFY")
+AFTER_GRASP = (Stage.PLACE, Stage.VERIFY)
 
 
 class FailureSnapshotRecorder:
@@ -54,7 +55,7 @@ class FailureSnapshotRecorder:
         row = ev.result
         if row.success and row.placed and not row.failed_stage:
             return
-        stage = row.failed_stage or ("VERIFY" if row.success else "failed")
+        stage = row.failed_stage or (Stage.VERIFY if row.success else "failed")
         stem = f"attempt_{self.attempts:02d}_{stage.lower()}"
         title = f"attempt {self.attempts}: {stage} failed"
         self._write(row, stem + "_perception.png", lambda p: self._perception(p, title))

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from grasp_pipeline.app.sim_system import SECTIONS, build_system
-from grasp_pipeline.orchestration.side_view import look_at_sides
+from grasp_pipeline.orchestration.scanning.side_view import look_at_sides
 from grasp_pipeline.perception.scene_volume import FREE, OCCUPIED, UNKNOWN
 from grasp_pipeline.settings import load_settings
 from grasp_pipeline.sim.scenes import reference_scene

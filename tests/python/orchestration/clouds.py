@@ -4,7 +4,7 @@ import types
 
 import numpy as np
 
-from grasp_pipeline.orchestration.scene_cloud import ENVIRONMENT, SceneCloud
+from grasp_pipeline.orchestration.scene.scene_cloud import ENVIRONMENT, SceneCloud
 
 STEP_M = 0.003
 UP = np.array([0.0, 0.0, 1.0])

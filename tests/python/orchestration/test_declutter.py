@@ -8,7 +8,7 @@ import pytest
 from grasp_pipeline import _core
 from grasp_pipeline.orchestration import declutter
 from grasp_pipeline.orchestration.config import DeclutterConfig
-from grasp_pipeline.orchestration.selection import spec_judge
+from grasp_pipeline.orchestration.scene.selection import spec_judge
 from grasp_pipeline.results import PickResult
 
 

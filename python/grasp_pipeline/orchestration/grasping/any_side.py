@@ -12,7 +12,7 @@ direction within a tilt limit of the table normal.
 4. the best ``preselect`` of those against the scene (:mod:`.clearance`): the planner's hand
    spheres along the approach clear of the neighbours, the environment and the table; the
    palm and camera clear of the object; the fingers' sweep through space no camera has seen
-   (when the request can tell, :class:`~grasp_pipeline.orchestration.grasp_source.GraspRequest`
+   (when the request can tell, :class:`~grasp_pipeline.orchestration.grasping.source.GraspRequest`
    ``unknown``);
 5. a score (:mod:`.scoring`), near-duplicates dropped, and the reach of the whole arm (the
    request's ``reach``: IK of the grasp and pre-grasp poses) for the best: reachable grasps
@@ -31,10 +31,10 @@ from typing import Optional
 
 import numpy as np
 
-from ...motion.occupancy import cell_rounding_m, cleared_cell_m
 from ...motion.object_points import PointModel, columns
+from ...motion.occupancy import cell_rounding_m, cleared_cell_m
 from ..config import GraspConfig, GraspFitConfig
-from ..scene_cloud import ENVIRONMENT
+from ..scene.scene_cloud import ENVIRONMENT
 from .candidates import (approach_directions, approaches_across, build_frames, closing_axes,
                          concat_frames, dominant_normals, normal_axes, plane_basis)
 from .clearance import ObstacleSet, hand_slack, palm_touches_target
@@ -152,10 +152,10 @@ class AnySideGraspSource:
 
     def _above_steps(self, target, frames, con, lim, cloud):
         """The top-down frames once more, held just above each lower step of the object's top
-        surface (:func:`~..grasp_fit.surface_levels`): the upper box of a stack that
+        surface (:func:`~.fit.surface_levels`): the upper box of a stack that
         segmentation merged into one cluster is grasped alone, not across the box under it.
         Returns all frames and their contacts."""
-        from ..grasp_fit import surface_levels
+        from .fit import surface_levels
 
         n, c0 = np.asarray(cloud.plane_n, float), float(cloud.plane_c)
         top_down = np.nonzero(frames.tilt_deg <= TOP_DOWN_TOLERANCE_DEG)[0]
@@ -200,7 +200,7 @@ class AnySideGraspSource:
                 tid, self.points_model)
             boxes = tuple(bx)
         fixed = columns(tops, cloud.plane_n, cloud.plane_c, self.cell_m) if len(tops) else tops
-        from ..tracks import track_box
+        from ..scene.tracks import track_box
 
         return ObstacleSet(fixed=fixed, fixed_slack_m=self.margin_m + cell_rounding_m(self.cell_m),
                            clearable=near.points[others],

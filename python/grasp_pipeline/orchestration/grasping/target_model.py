@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
-from ..scene_cloud import SceneCloud
+from ..scene.scene_cloud import SceneCloud
 
 #: Points per normal estimate (the point and its nearest neighbours).
 NORMAL_NEIGHBOURS = 10

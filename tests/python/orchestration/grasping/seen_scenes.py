@@ -13,9 +13,9 @@ import numpy as np
 import trimesh
 
 from grasp_pipeline.motion.perceived_scene import PerceivedScene
-from grasp_pipeline.orchestration.grasp_source import GraspRequest
-from grasp_pipeline.orchestration.scene_cloud import ENVIRONMENT, SceneCloud
-from grasp_pipeline.orchestration.tracks import track_box
+from grasp_pipeline.orchestration.grasping.source import GraspRequest
+from grasp_pipeline.orchestration.scene.scene_cloud import ENVIRONMENT, SceneCloud
+from grasp_pipeline.orchestration.scene.tracks import track_box
 
 UP = np.array([0.0, 0.0, 1.0])
 TABLE = trimesh.creation.box((1.0, 1.0, 0.02), trimesh.transformations.translation_matrix([0.5, 0.0, -0.01]))

@@ -1,0 +1,67 @@
+"""The tray's contents: released objects dropped onto what is under them, refreshed by looks."""
+
+import numpy as np
+import pytest
+
+from grasp_pipeline.orchestration.execution.tray import TrayContents, TrayGeometry
+
+from .tray_cell import CELL, FLOOR_Z, box_points, floor_points, solid_points
+
+CELL_M = 0.005
+
+
+def contents():
+    return TrayContents(TrayGeometry.from_work_cell(CELL), CELL_M, 0.008)
+
+
+def test_the_geometry_has_the_four_walls_and_their_height():
+    g = TrayGeometry.from_work_cell(CELL)
+    assert len(g.walls) == 4  # the stand and the floor are not higher than the floor
+    assert g.rim_m == pytest.approx(0.03)
+    grid = g.grid(0.01)
+    walls = grid.wall_mask()
+    assert walls[0].all() and walls[-1].all() and walls[:, 0].all() and walls[:, -1].all()
+    assert not walls[2:-2, 2:-2].any()
+
+
+def test_a_released_object_drops_onto_the_floor_then_the_next_onto_it():
+    tray = contents()
+    a = tray.add_released(solid_points(0.05, 0.05, 0.04) + [0.34, 0.58, FLOOR_Z + 0.07])
+    box = a.box(FLOOR_Z)
+    assert a.name == "placed/0"
+    assert box.center[2] + box.extents[2] / 2 == pytest.approx(FLOOR_Z + 0.04, abs=CELL_M)
+    b = tray.add_released(solid_points(0.03, 0.03, 0.02) + [0.34, 0.58, FLOOR_Z + 0.12])
+    assert b.name == "placed/1"
+    assert b.tops[:, 2].max() == pytest.approx(FLOOR_Z + 0.04 + 0.02, abs=2 * CELL_M)  # stacked on a
+
+
+def test_a_look_refreshes_moves_and_forgets_what_it_saw():
+    tray = contents()
+    tray.add_released(solid_points(0.05, 0.05, 0.05) + [0.28, 0.52, FLOOR_Z + 0.03])  # placed/0
+    tray.add_released(solid_points(0.05, 0.05, 0.05) + [0.40, 0.64, FLOOR_Z + 0.03])  # placed/1
+    # the look sees placed/0 where it was (a little lower), placed/1 is gone, and a new object
+    seen = np.vstack([floor_points(), box_points(0.28, 0.52, 0.05, 0.05, 0.045),
+                      box_points(0.40, 0.50, 0.04, 0.04, 0.03)])
+    gone = tray.update_from_look(seen)
+    assert gone == ["placed/1"]
+    assert set(tray.objects) == {"placed/0", "placed/2"}
+    assert tray.objects["placed/0"].tops[:, 2].max() == pytest.approx(FLOOR_Z + 0.045, abs=CELL_M)
+    assert np.allclose(tray.objects["placed/2"].box(FLOOR_Z).center[:2], [0.40, 0.50], atol=0.005)
+
+
+def test_a_look_that_does_not_see_an_object_keeps_it():
+    tray = contents()
+    tray.add_released(solid_points(0.05, 0.05, 0.05) + [0.40, 0.64, FLOOR_Z + 0.03])
+    half_floor = floor_points()[floor_points()[:, 0] < 0.34]  # the camera saw only x < 0.34
+    assert tray.update_from_look(half_floor) == []
+    assert set(tray.objects) == {"placed/0"}
+
+
+def test_the_heights_of_the_contents_on_a_coarser_grid():
+    tray = contents()
+    tray.add_released(solid_points(0.05, 0.05, 0.05) + [0.34, 0.58, FLOOR_Z + 0.03])
+    grid = tray.geometry.grid(0.01)
+    h = tray.heights(grid)
+    ij = grid.index(np.array([[0.34, 0.58], [0.25, 0.50]]))
+    assert h[ij[0, 0], ij[0, 1]] == pytest.approx(0.05, abs=CELL_M)
+    assert h[ij[1, 0], ij[1, 1]] == 0.0
