@@ -94,12 +94,20 @@ def test_train_and_eval_refuse_bad_input_before_any_work(recorded_dataset, tmp_p
 
 
 def test_eval_without_gymnasium_refuses_with_the_install_command(tmp_path):
+    import os
     import subprocess
     import sys
+    from pathlib import Path
 
+    import grasp_pipeline
+
+    # the child imports the package this test imports (its folder first on the path)
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(Path(grasp_pipeline.__file__).parents[1]),
+                                                         os.environ.get("PYTHONPATH", "")])}
     code = ("import sys; sys.modules['gymnasium'] = None\n"
             "from grasp_pipeline.cli import main\n"
             "sys.exit(main(['eval', '--policy', 'reference', '--out', 'ev']))")
-    res = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    res = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True,
+                         timeout=300, env=env)
     assert res.returncode == 2 and "Traceback" not in res.stderr, res.stderr[-2000:]
     assert "pip install 'grasp-pipeline[learning]'" in res.stderr and not (tmp_path / "ev").exists()
