@@ -63,7 +63,7 @@ class TargetOutcome:
 
     def where(self) -> str:
         """Where the target is, in words: ``in the tray``, ``in the tray, still moving``,
-        ``in the tray, touched by the robot``, ``held up``, ``fell off the table``, ``on the
+        ``in the tray, touched by the robot``, ``held up``, ``off the table``, ``on the
         table``."""
         p = self.position_m()
         if self.in_tray():
@@ -74,7 +74,7 @@ class TargetOutcome:
                 return "in the tray, still moving"
             return "in the tray"
         if p[2] < self.table_top_z - FALLEN_BELOW_M:
-            return "fell off the table"
+            return "off the table"
         if p[2] > self.z0 + LIFTED_M:
             return "held up" if self.touched_by_robot() else "up in the air"
         return "on the table"
