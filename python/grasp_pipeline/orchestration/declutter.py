@@ -107,9 +107,11 @@ def best_score(ctx: PickContext, xy) -> float | None:
 
 
 def _by_score(ctx: PickContext, targets: list, skipped: Optional[list]) -> list:
-    scored = [(best_score(ctx, t), k, t) for k, t in enumerate(targets)]
-    if skipped is not None:
-        skipped.extend(no_grasp_skip(ctx, t) for s, _, t in scored if s is None)
+    scored = []
+    for k, t in enumerate(targets):
+        scored.append((best_score(ctx, t), k, t))
+        if scored[-1][0] is None and skipped is not None:  # the source's reason is this object's now
+            skipped.append(no_grasp_skip(ctx, t))
     return [t for _, _, t in sorted((x for x in scored if x[0] is not None), key=lambda x: (-x[0], x[1]))]
 
 

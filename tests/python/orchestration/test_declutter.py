@@ -149,3 +149,27 @@ def test_a_round_ended_for_want_of_grasps_lists_every_object_as_skipped(fake):
     assert out.end_reason == declutter.END_NO_TARGET
     assert sorted(s["tid"] for s in out.skipped) == [0, 1, 2]
     assert all(s["why"] == "grasp source 's' proposed no grasp" for s in out.skipped)
+
+
+def test_ranked_by_score_each_skipped_object_keeps_its_own_refusal(fake):
+    """The source's ``last_refusal`` is that of its latest proposal: each object without a grasp
+    is skipped with the reason given for it, not with a later object's (an empty one when the
+    later object had grasps)."""
+    ctx, _ = fake
+    reasons = {0.40: "too wide to close on", 0.50: "", 0.60: "the hand meets a neighbour"}
+
+    class Source:
+        name, top_down_only, last_refusal = "scored", False, ""
+
+        def propose(self, request):
+            x = round(float(request[0][0]), 2)  # the fake request: (xy, tid)
+            self.last_refusal = reasons[x]
+            return [] if reasons[x] else [SimpleNamespace(score=0.9)]
+
+    ctx.source = Source()
+    skipped: list = []
+    targets = [(0.40, 0.0), (0.50, 0.0), (0.60, 0.0)]
+    out = declutter.choose_order(ctx, targets, [], DeclutterConfig(order="score"), skipped)
+    assert out == [(0.50, 0.0)]
+    assert [s["why"] for s in skipped] == ["grasp source 'scored' proposed no grasp: too wide to close on",
+                                           "grasp source 'scored' proposed no grasp: the hand meets a neighbour"]
