@@ -101,6 +101,13 @@ def _kept(rows: list[dict]) -> int:
     return sum(1 for r in rows for e in r["episodes"] if e.get("shard"))
 
 
+def job_size(per_job: int, episodes: int, workers: int) -> int:
+    """Episodes per job: ``per_job``, fewer when the request would not fill every worker's
+    first job (2 episodes on 1 worker: one job of 2, not of 4). Which scene an episode plays
+    depends on its index only, so the dataset does not depend on it."""
+    return max(1, min(per_job, math.ceil(episodes / max(1, workers))))
+
+
 def _batch(needed: int, rows: list[dict], a: dict) -> int:
     """Jobs to start next (a multiple of the worker count): first enough for the episodes
     still needed were every one kept, then as many as the episodes kept per episode played so
@@ -240,7 +247,8 @@ def record_dataset(protocol: str = "sparse", objects: str = "builtin", episodes:
          "workers": int(workers), "keep_failed": bool(keep_failed), "depth": bool(depth),
          "overrides": overrides, "backend": backend, "address": address, "out": out,
          "job_timeout_s": job_timeout_s, "rerun_dir": rerun_dir,
-         "per_job": settings.env.episodes_per_job, "repo_id": settings.record.repo_id,
+         "per_job": job_size(settings.env.episodes_per_job, int(episodes), int(workers)),
+         "repo_id": settings.record.repo_id,
          "video_file_size_mb": settings.record.video_file_size_mb}
     work = df.work_dir(out)
     for stale in (work, df.staging_dir(out)):  # left by a run that was killed
