@@ -21,7 +21,8 @@ reasons, steps and seconds per episode, every episode), ``summary.md`` and
 ``videos/episode_<i>_scene_<seed>.mp4`` (scene and wrist camera side by side). ``eval.json``
 is written (atomically) when the run starts (``"status": "running"``) and when it ends
 (``complete``, or ``interrupted`` with the ``phase`` and the episodes finished until then);
-an unfinished episode's video is removed.
+the video of an episode that is not in the report (unfinished, or its result not saved) is
+removed.
 """
 
 from __future__ import annotations
@@ -152,17 +153,26 @@ def _write_text(path: Path, text: str) -> None:
     os.replace(tmp, path)
 
 
+def _remove_unreported_videos(out: Path, report: dict) -> None:
+    """Delete every video that is not a reported episode's: an unfinished one (still named
+    ``.partial``), or one whose episode's result was never saved (its job stopped — Ctrl-C,
+    a timeout — between closing the video and saving the result)."""
+    reported = {os.path.normpath(e["video"]) for e in report.get("episodes", []) if e.get("video")}
+    for p in sorted((out / VIDEOS).glob("*")):
+        if p.is_file() and os.path.relpath(p, out) not in reported:
+            log.info("removed %s: its episode did not finish", p)
+            p.unlink(missing_ok=True)
+
+
 def _write(a: dict, report: dict) -> None:
-    """``summary.md`` then ``eval.json`` (both atomically); no unfinished video and no worker
-    results (the report holds them) left."""
+    """``summary.md`` then ``eval.json`` (both atomically); no video of an unreported episode
+    and no worker results (the report holds them) left."""
     import shutil
 
     from ..report.serialize import write_json
     from .eval_report import summary_markdown
-    from .rollout import PARTIAL
 
-    for p in (a["out"] / VIDEOS).glob(f"*{PARTIAL}*"):
-        p.unlink(missing_ok=True)
+    _remove_unreported_videos(a["out"], report)
     _write_text(a["out"] / SUMMARY_FILE, summary_markdown(report))
     write_json(a["out"] / REPORT_FILE, report)
     shutil.rmtree(a["out"] / RESULTS, ignore_errors=True)

@@ -25,6 +25,13 @@ def _as_from_a_terminal() -> None:
     signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
+#: A finished episode's result, as a worker saves it.
+EPISODE = {"index": 0, "scene_seed": 1, "task": "pick up the red cube and put it in the tray",
+           "target": "cube_0", "target_model": "cube", "success": True, "terminated": True,
+           "truncated": False, "failed_stage": "", "failure_reason": "", "target_state": "in the tray",
+           "steps": 200, "sim_s": 13.3, "wall_s": 9.0, "video": None, "error": None, "extra": {}}
+
+
 def _files(out):
     return sorted(str(p.relative_to(out)) for p in out.rglob("*") if p.is_file())
 
@@ -71,10 +78,8 @@ def test_interrupted_while_simulating_keeps_the_finished_episodes(trained_policy
 def test_interrupted_while_writing_the_report(tmp_path, monkeypatch):
     import grasp_pipeline.bench.scheduler as scheduler
 
-    episode = {"index": 0, "scene_seed": 1, "task": "pick up the red cube and put it in the tray",
-               "target": "cube_0", "target_model": "cube", "success": True, "terminated": True,
-               "truncated": False, "failed_stage": "", "failure_reason": "", "target_state": "in the tray",
-               "steps": 200, "sim_s": 13.3, "wall_s": 9.0, "video": None, "error": None, "extra": {}}
+    episode = dict(EPISODE)
+
     def run_jobs(tasks, *args, **kwargs):  # a worker's finished episode, saved as workers save it
         from grasp_pipeline.report.serialize import write_json
 
@@ -98,3 +103,28 @@ def test_interrupted_while_writing_the_report(tmp_path, monkeypatch):
     assert report["status"] == "interrupted" and report["phase"] == "writing"
     assert report["episodes_finished"] == 1 and report["successes"] == 1
     assert _files(tmp_path / "ev") == ["eval.json", "summary.md"]
+
+
+def test_the_video_of_an_episode_whose_result_was_not_saved_is_removed(tmp_path, monkeypatch):
+    """Ctrl-C reaching a worker after it closed an episode's video but before it saved the
+    episode's result: the report cannot hold that episode, so its video goes like an
+    unfinished one's — the videos left are exactly the reported episodes'."""
+    import grasp_pipeline.bench.scheduler as scheduler
+    from grasp_pipeline.report.serialize import write_json
+
+    def run_jobs(tasks, *args, **kwargs):
+        job = tasks[0][1]
+        videos = Path(job["videos_dir"])
+        videos.mkdir(parents=True, exist_ok=True)
+        saved = videos / "episode_0000_scene_1.mp4"
+        saved.write_bytes(b"mp4")
+        write_json(Path(job["results_dir"]) / "episode_00000.json", {**EPISODE, "video": str(saved)})
+        (videos / "episode_0001_scene_2.mp4").write_bytes(b"mp4")         # result never saved
+        (videos / "episode_0002_scene_3.partial.mp4").write_bytes(b"mp")  # still being written
+        return [], True                                                     # interrupted
+
+    monkeypatch.setattr(scheduler, "run_jobs", run_jobs)
+    report = eval_command.evaluate("reference", episodes=3, out=tmp_path / "ev", progress=False)
+    assert report["status"] == "interrupted" and report["episodes_finished"] == 1
+    assert [e["video"] for e in report["episodes"]] == ["videos/episode_0000_scene_1.mp4"]
+    assert _files(tmp_path / "ev") == ["eval.json", "summary.md", "videos/episode_0000_scene_1.mp4"]
