@@ -14,7 +14,8 @@ Jobs of ``env.yaml`` ``episodes_per_job`` episodes run in worker processes (or o
 loads the policy once.
 
 Everything the run needs is checked before any simulation (a one-line error): the output
-folder (new or empty), the protocol and object set, the policy folder and its input features
+folder (new or empty; marked while eval writes there, so that a second eval started into it
+is refused), the protocol and object set, the policy folder and its input features
 against the environment's observations (key and shape). ``--out`` receives ``eval.json``
 (:mod:`.eval_report`: success rate with a 95 % interval, per task word and per object, failure
 reasons, steps and seconds per episode, every episode), ``summary.md`` and
@@ -84,10 +85,21 @@ def check_policy(policy: str, env, device: str) -> str:
     return str(Path(policy).resolve())
 
 
-def check_inputs(a: dict):
-    """The settings and the environment (not reset); :class:`InputError` before simulating."""
-    from ..dataset.record_settings import record_overrides, record_settings
+def check_out(out: Path, claim=None) -> None:
+    """``--out`` is a new or empty folder that can be written (with ``claim``: empty but for
+    this process's own marker — a second ``eval`` started into the same folder is refused)."""
     from ..report.serialize import check_writable_dir
+
+    mine = getattr(claim, "marker", None)
+    if out.exists() and (not out.is_dir() or any(p != mine for p in out.iterdir())):
+        raise InputError(f"--out {out} exists and is not an empty folder: choose a new folder")
+    check_writable_dir(out, "output folder (--out)")
+
+
+def check_inputs(a: dict):
+    """The settings and the environment (not reset); :class:`InputError` before simulating.
+    (``--out`` is checked before, by :func:`check_out`.)"""
+    from ..dataset.record_settings import record_overrides, record_settings
     from .pick_env import PickPlaceEnv, check_protocol
 
     check_protocol(a["protocol"])
@@ -95,10 +107,6 @@ def check_inputs(a: dict):
         raise InputError("--episodes and --workers must be >= 1")
     if a["device"] not in ("cpu", "cuda"):
         raise InputError(f"--device must be cpu or cuda, got {a['device']!r}")
-    out = a["out"]
-    if out.exists() and (not out.is_dir() or any(out.iterdir())):
-        raise InputError(f"--out {out} exists and is not an empty folder: choose a new folder")
-    check_writable_dir(out, "output folder (--out)")
     settings = record_settings(record_overrides(a["overrides"], a["fps"], a["image_size"]))
     env = PickPlaceEnv(a["protocol"], a["objects"], a["depth"], settings=settings,
                        max_episode_steps=a["max_steps"])
@@ -210,6 +218,7 @@ def evaluate(policy: str, protocol: str = "sparse", objects: str = "builtin", ep
              job_timeout_s: float = 3600.0) -> dict:
     """Evaluate ``policy`` (see the module doc); returns the report."""
     from ..app.run_command import sigterm_as_interrupt
+    from ..report.output_lock import output_claim
     from . import require_gymnasium
 
     require_gymnasium()  # before anything else: the environment is Gymnasium's
@@ -219,7 +228,10 @@ def evaluate(policy: str, protocol: str = "sparse", objects: str = "builtin", ep
          "image_size": image_size, "fps": fps, "depth": bool(depth), "overrides": overrides,
          "progress": progress, "job_timeout_s": job_timeout_s}
     t0 = time.perf_counter()
-    with sigterm_as_interrupt():
+    check_out(a["out"])
+    # marked at once, then checked again: another eval into this folder is refused (not mixed)
+    with output_claim(a["out"], "eval") as claim, sigterm_as_interrupt():
+        check_out(a["out"], claim)
         report, _settings = _run(a, t0)
         try:
             _write(a, report)

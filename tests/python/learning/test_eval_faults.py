@@ -128,3 +128,40 @@ def test_the_video_of_an_episode_whose_result_was_not_saved_is_removed(tmp_path,
     assert report["status"] == "interrupted" and report["episodes_finished"] == 1
     assert [e["video"] for e in report["episodes"]] == ["videos/episode_0000_scene_1.mp4"]
     assert _files(tmp_path / "ev") == ["eval.json", "summary.md", "videos/episode_0000_scene_1.mp4"]
+
+
+def test_eval_marks_its_folder_before_the_slow_checks_and_refuses_a_marked_one(tmp_path, monkeypatch):
+    """``eval`` marks ``--out`` as soon as it is checked (a second ``eval`` started into it
+    while the first loads finds it not empty) and checks it again once marked: a folder that
+    holds anything but its own marker (another eval marked it meanwhile) is refused."""
+    import json
+    import subprocess
+
+    from grasp_pipeline.exceptions import InputError
+    from grasp_pipeline.report.output_lock import PREFIX, SUFFIX, _process_start, claim_output
+
+    seen = []
+
+    def check_inputs(a):
+        seen.append(sorted(p.name for p in a["out"].iterdir()))
+        raise InputError("stop here")
+
+    monkeypatch.setattr(eval_command, "check_inputs", check_inputs)
+    out = tmp_path / "ev"
+    with pytest.raises(InputError, match="stop here"):
+        eval_command.evaluate("reference", episodes=1, out=out, progress=False)
+    assert len(seen[0]) == 1 and seen[0][0].startswith(PREFIX)   # marked while checking
+    assert list(out.iterdir()) == []                               # and unmarked after
+
+    mine = claim_output(out, "eval")
+    eval_command.check_out(out, mine)                              # only its own marker: fine
+    other = subprocess.Popen(["sleep", "30"])
+    try:
+        (out / f"{PREFIX}elsewhere-{other.pid}{SUFFIX}").write_text(json.dumps(
+            {"pid": other.pid, "process_start": _process_start(other.pid), "command": "eval"}))
+        with pytest.raises(InputError, match="exists and is not an empty folder"):
+            eval_command.check_out(out, mine)
+    finally:
+        other.kill()
+        other.wait()
+        mine.release()
