@@ -21,7 +21,9 @@ against the environment's observations (key and shape). ``--out`` receives ``eva
 reasons, steps and seconds per episode, every episode), ``summary.md`` and
 ``videos/episode_<i>_scene_<seed>.mp4`` (scene and wrist camera side by side). ``eval.json``
 is written (atomically) when the run starts (``"status": "running"``) and when it ends
-(``complete``, or ``interrupted`` with the ``phase`` and the episodes finished until then);
+(``complete``; ``partial`` / ``failed`` when some / all episodes did not run to their end, a job
+having timed out, died or raised, with a ``status_note`` saying why; or ``interrupted`` with the
+``phase`` and the episodes finished until then);
 the video of an episode that is not in the report (unfinished, or its result not saved) is
 removed.
 """
@@ -32,6 +34,7 @@ import logging
 import math
 import os
 import time
+from collections import Counter
 from pathlib import Path
 from typing import Optional
 
@@ -136,6 +139,18 @@ def finished_episodes(out: Path) -> list[dict]:
     return [json.loads(p.read_text()) for p in sorted((out / RESULTS).glob("episode_*.json"))]
 
 
+def ended_status(status: str, requested: int, finished: int, jobs: list) -> tuple[str, str]:
+    """(status, note) of a run: one that ran to its end is ``complete`` only when every
+    requested episode finished — ``partial`` when some did not (their job timed out, its
+    process died or it raised), ``failed`` when none did; the note says how many and why."""
+    if status != "complete" or finished >= requested:
+        return status, ""
+    why = Counter(str(r["error"]).split(":")[0] for r in jobs if r.get("error"))
+    causes = ", ".join(f"{k} x{n}" for k, n in sorted(why.items())) or "no result"
+    note = f"{requested - finished} of {requested} episodes did not run to their end ({causes})"
+    return ("partial" if finished else "failed"), note
+
+
 def _report(a: dict, status: str, phase: Optional[str], jobs: list, t0: float, settings) -> dict:
     from .eval_report import figures
 
@@ -145,7 +160,8 @@ def _report(a: dict, status: str, phase: Optional[str], jobs: list, t0: float, s
             e["video"] = os.path.relpath(e["video"], a["out"])
     errors = [f"job {r['index']}: {r['error']}" for r in jobs if r.get("error")]
     fig = figures(episodes, settings.record.task_template) if episodes else {}
-    return {"status": status, "phase": phase, "policy": a["policy"], "protocol": a["protocol"],
+    status, note = ended_status(status, a["episodes"], len(episodes), jobs)
+    return {"status": status, "status_note": note, "phase": phase, "policy": a["policy"], "protocol": a["protocol"],
             "objects": str(a["objects"]), "seed": a["seed"], "episodes_requested": a["episodes"],
             "episodes_finished": len(episodes), **fig, "max_steps": a["max_steps"],
             "fps": settings.record.record_fps_hz, "image_size": [settings.record.image_height_px,
@@ -244,7 +260,7 @@ def evaluate(policy: str, protocol: str = "sparse", objects: str = "builtin", ep
 
 def eval_main(args) -> int:
     """The ``eval`` sub-command: prints the headline; exit code 0 when complete, 130 when
-    interrupted."""
+    interrupted, 1 when episodes did not run to their end (``partial`` / ``failed``)."""
     report = evaluate(args.policy, protocol=args.protocol, objects=args.objects, episodes=args.episodes,
                       seed=args.seed, workers=args.workers, out=args.out, backend=args.backend,
                       address=args.address, max_steps=args.max_steps, device=args.device,
@@ -254,4 +270,6 @@ def eval_main(args) -> int:
     ci = report.get("ci95", [0.0, 1.0])
     print(f"{report['status']}: {report.get('successes', 0)} / {report['episodes_finished']} episodes "
           f"successful (95 % interval {ci[0]:.2f}–{ci[1]:.2f}); report {Path(args.out) / REPORT_FILE}")
-    return 0 if report["status"] == "complete" else 130
+    if report.get("status_note"):
+        log.error("eval %s: %s", report["status"], report["status_note"])
+    return {"complete": 0, "interrupted": 130}.get(report["status"], 1)

@@ -83,6 +83,8 @@ def summary_markdown(report: dict) -> str:
              f"episodes (seed {report['seed']}); success rate **{rate}** "
              f"(95 % interval {ci[0]:.2f}–{ci[1]:.2f}); mean steps {_or_na(report.get('mean_steps'))}, "
              f"median {_or_na(report.get('median_seconds'), ' s')} per episode; wall {report.get('wall_s')} s", ""]
+    if report.get("status_note"):
+        lines += [f"**{report['status_note']}**", ""]
     if report.get("error"):
         lines += [f"error: {report['error']}", ""]
     lines += _table("By object", report.get("by_object", {}))

@@ -165,3 +165,32 @@ def test_eval_marks_its_folder_before_the_slow_checks_and_refuses_a_marked_one(t
         other.kill()
         other.wait()
         mine.release()
+
+
+def test_an_eval_whose_jobs_did_not_run_to_their_end_fails(tmp_path, monkeypatch):
+    """Every job timed out (no episode saved): status failed with a note saying why, exit
+    code 1 — not "complete: 0 / 0 episodes" with exit code 0."""
+    import grasp_pipeline.bench.scheduler as scheduler
+    from grasp_pipeline.cli import build_parser
+
+    def run_jobs(tasks, *args, **kwargs):
+        return [{"index": t[0], "episodes": [], "error": "Timeout: the job took longer than 1 s wall time"}
+                for t in tasks], False
+
+    monkeypatch.setattr(scheduler, "run_jobs", run_jobs)
+    args = build_parser().parse_args(["eval", "--policy", "reference", "--episodes", "2", "--no-video",
+                                      "--no-progress", "--set", "env.episodes_per_job=1",
+                                      "--out", str(tmp_path / "ev")])
+    assert eval_command.eval_main(args) == 1
+    report = json.loads((tmp_path / "ev/eval.json").read_text())
+    assert report["status"] == "failed" and report["episodes_finished"] == 0
+    assert report["status_note"] == "2 of 2 episodes did not run to their end (Timeout x2)"
+    assert report["status_note"] in (tmp_path / "ev/summary.md").read_text()
+
+
+def test_the_status_says_whether_every_episode_ran_to_its_end():
+    ok, timeout, died = {"error": None}, {"error": "Timeout: 1 s"}, {"error": "WorkerDied: code -9"}
+    assert eval_command.ended_status("complete", 2, 2, [ok]) == ("complete", "")
+    assert eval_command.ended_status("complete", 3, 1, [ok, timeout, died]) == (
+        "partial", "2 of 3 episodes did not run to their end (Timeout x1, WorkerDied x1)")
+    assert eval_command.ended_status("interrupted", 3, 1, [timeout]) == ("interrupted", "")
