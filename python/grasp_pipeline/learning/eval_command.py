@@ -14,14 +14,18 @@ Jobs of ``env.yaml`` ``episodes_per_job`` episodes run in worker processes (or o
 loads the policy once.
 
 Everything the run needs is checked before any simulation (a one-line error): the output
-folder (new or empty), the protocol and object set, the policy folder and its input features
+folder (new or empty; marked while eval writes there, so that a second eval started into it
+is refused), the protocol and object set, the policy folder and its input features
 against the environment's observations (key and shape). ``--out`` receives ``eval.json``
 (:mod:`.eval_report`: success rate with a 95 % interval, per task word and per object, failure
 reasons, steps and seconds per episode, every episode), ``summary.md`` and
 ``videos/episode_<i>_scene_<seed>.mp4`` (scene and wrist camera side by side). ``eval.json``
 is written (atomically) when the run starts (``"status": "running"``) and when it ends
-(``complete``, or ``interrupted`` with the ``phase`` and the episodes finished until then);
-an unfinished episode's video is removed.
+(``complete``; ``partial`` / ``failed`` when some / all episodes did not run to their end, a job
+having timed out, died or raised, with a ``status_note`` saying why; or ``interrupted`` with the
+``phase`` and the episodes finished until then);
+the video of an episode that is not in the report (unfinished, or its result not saved) is
+removed.
 """
 
 from __future__ import annotations
@@ -30,6 +34,7 @@ import logging
 import math
 import os
 import time
+from collections import Counter
 from pathlib import Path
 from typing import Optional
 
@@ -83,10 +88,21 @@ def check_policy(policy: str, env, device: str) -> str:
     return str(Path(policy).resolve())
 
 
-def check_inputs(a: dict):
-    """The settings and the environment (not reset); :class:`InputError` before simulating."""
-    from ..dataset.record_settings import record_overrides, record_settings
+def check_out(out: Path, claim=None) -> None:
+    """``--out`` is a new or empty folder that can be written (with ``claim``: empty but for
+    this process's own marker — a second ``eval`` started into the same folder is refused)."""
     from ..report.serialize import check_writable_dir
+
+    mine = getattr(claim, "marker", None)
+    if out.exists() and (not out.is_dir() or any(p != mine for p in out.iterdir())):
+        raise InputError(f"--out {out} exists and is not an empty folder: choose a new folder")
+    check_writable_dir(out, "output folder (--out)")
+
+
+def check_inputs(a: dict):
+    """The settings and the environment (not reset); :class:`InputError` before simulating.
+    (``--out`` is checked before, by :func:`check_out`.)"""
+    from ..dataset.record_settings import record_overrides, record_settings
     from .pick_env import PickPlaceEnv, check_protocol
 
     check_protocol(a["protocol"])
@@ -94,10 +110,6 @@ def check_inputs(a: dict):
         raise InputError("--episodes and --workers must be >= 1")
     if a["device"] not in ("cpu", "cuda"):
         raise InputError(f"--device must be cpu or cuda, got {a['device']!r}")
-    out = a["out"]
-    if out.exists() and (not out.is_dir() or any(out.iterdir())):
-        raise InputError(f"--out {out} exists and is not an empty folder: choose a new folder")
-    check_writable_dir(out, "output folder (--out)")
     settings = record_settings(record_overrides(a["overrides"], a["fps"], a["image_size"]))
     env = PickPlaceEnv(a["protocol"], a["objects"], a["depth"], settings=settings,
                        max_episode_steps=a["max_steps"])
@@ -127,6 +139,18 @@ def finished_episodes(out: Path) -> list[dict]:
     return [json.loads(p.read_text()) for p in sorted((out / RESULTS).glob("episode_*.json"))]
 
 
+def ended_status(status: str, requested: int, finished: int, jobs: list) -> tuple[str, str]:
+    """(status, note) of a run: one that ran to its end is ``complete`` only when every
+    requested episode finished — ``partial`` when some did not (their job timed out, its
+    process died or it raised), ``failed`` when none did; the note says how many and why."""
+    if status != "complete" or finished >= requested:
+        return status, ""
+    why = Counter(str(r["error"]).split(":")[0] for r in jobs if r.get("error"))
+    causes = ", ".join(f"{k} x{n}" for k, n in sorted(why.items())) or "no result"
+    note = f"{requested - finished} of {requested} episodes did not run to their end ({causes})"
+    return ("partial" if finished else "failed"), note
+
+
 def _report(a: dict, status: str, phase: Optional[str], jobs: list, t0: float, settings) -> dict:
     from .eval_report import figures
 
@@ -136,7 +160,8 @@ def _report(a: dict, status: str, phase: Optional[str], jobs: list, t0: float, s
             e["video"] = os.path.relpath(e["video"], a["out"])
     errors = [f"job {r['index']}: {r['error']}" for r in jobs if r.get("error")]
     fig = figures(episodes, settings.record.task_template) if episodes else {}
-    return {"status": status, "phase": phase, "policy": a["policy"], "protocol": a["protocol"],
+    status, note = ended_status(status, a["episodes"], len(episodes), jobs)
+    return {"status": status, "status_note": note, "phase": phase, "policy": a["policy"], "protocol": a["protocol"],
             "objects": str(a["objects"]), "seed": a["seed"], "episodes_requested": a["episodes"],
             "episodes_finished": len(episodes), **fig, "max_steps": a["max_steps"],
             "fps": settings.record.record_fps_hz, "image_size": [settings.record.image_height_px,
@@ -152,17 +177,26 @@ def _write_text(path: Path, text: str) -> None:
     os.replace(tmp, path)
 
 
+def _remove_unreported_videos(out: Path, report: dict) -> None:
+    """Delete every video that is not a reported episode's: an unfinished one (still named
+    ``.partial``), or one whose episode's result was never saved (its job stopped — Ctrl-C,
+    a timeout — between closing the video and saving the result)."""
+    reported = {os.path.normpath(e["video"]) for e in report.get("episodes", []) if e.get("video")}
+    for p in sorted((out / VIDEOS).glob("*")):
+        if p.is_file() and os.path.relpath(p, out) not in reported:
+            log.info("removed %s: its episode did not finish", p)
+            p.unlink(missing_ok=True)
+
+
 def _write(a: dict, report: dict) -> None:
-    """``summary.md`` then ``eval.json`` (both atomically); no unfinished video and no worker
-    results (the report holds them) left."""
+    """``summary.md`` then ``eval.json`` (both atomically); no video of an unreported episode
+    and no worker results (the report holds them) left."""
     import shutil
 
     from ..report.serialize import write_json
     from .eval_report import summary_markdown
-    from .rollout import PARTIAL
 
-    for p in (a["out"] / VIDEOS).glob(f"*{PARTIAL}*"):
-        p.unlink(missing_ok=True)
+    _remove_unreported_videos(a["out"], report)
     _write_text(a["out"] / SUMMARY_FILE, summary_markdown(report))
     write_json(a["out"] / REPORT_FILE, report)
     shutil.rmtree(a["out"] / RESULTS, ignore_errors=True)
@@ -200,6 +234,7 @@ def evaluate(policy: str, protocol: str = "sparse", objects: str = "builtin", ep
              job_timeout_s: float = 3600.0) -> dict:
     """Evaluate ``policy`` (see the module doc); returns the report."""
     from ..app.run_command import sigterm_as_interrupt
+    from ..report.output_lock import output_claim
     from . import require_gymnasium
 
     require_gymnasium()  # before anything else: the environment is Gymnasium's
@@ -209,7 +244,10 @@ def evaluate(policy: str, protocol: str = "sparse", objects: str = "builtin", ep
          "image_size": image_size, "fps": fps, "depth": bool(depth), "overrides": overrides,
          "progress": progress, "job_timeout_s": job_timeout_s}
     t0 = time.perf_counter()
-    with sigterm_as_interrupt():
+    check_out(a["out"])
+    # marked at once, then checked again: another eval into this folder is refused (not mixed)
+    with output_claim(a["out"], "eval") as claim, sigterm_as_interrupt():
+        check_out(a["out"], claim)
         report, _settings = _run(a, t0)
         try:
             _write(a, report)
@@ -222,7 +260,7 @@ def evaluate(policy: str, protocol: str = "sparse", objects: str = "builtin", ep
 
 def eval_main(args) -> int:
     """The ``eval`` sub-command: prints the headline; exit code 0 when complete, 130 when
-    interrupted."""
+    interrupted, 1 when episodes did not run to their end (``partial`` / ``failed``)."""
     report = evaluate(args.policy, protocol=args.protocol, objects=args.objects, episodes=args.episodes,
                       seed=args.seed, workers=args.workers, out=args.out, backend=args.backend,
                       address=args.address, max_steps=args.max_steps, device=args.device,
@@ -232,4 +270,6 @@ def eval_main(args) -> int:
     ci = report.get("ci95", [0.0, 1.0])
     print(f"{report['status']}: {report.get('successes', 0)} / {report['episodes_finished']} episodes "
           f"successful (95 % interval {ci[0]:.2f}–{ci[1]:.2f}); report {Path(args.out) / REPORT_FILE}")
-    return 0 if report["status"] == "complete" else 130
+    if report.get("status_note"):
+        log.error("eval %s: %s", report["status"], report["status_note"])
+    return {"complete": 0, "interrupted": 130}.get(report["status"], 1)

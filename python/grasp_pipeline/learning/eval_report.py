@@ -69,6 +69,11 @@ def _table(title: str, groups: dict) -> list[str]:
     return lines + [""]
 
 
+def _or_na(value, unit: str = "") -> str:
+    """A figure for the summary: "n/a" when there is none (no finished episode)."""
+    return "n/a" if value is None else f"{value}{unit}"
+
+
 def summary_markdown(report: dict) -> str:
     """``summary.md`` of a report."""
     rate = "n/a" if report.get("success_rate") is None else f"{report['success_rate']:.2f}"
@@ -76,8 +81,10 @@ def summary_markdown(report: dict) -> str:
     lines = [f"# eval: {report['policy']} on {report['protocol']} ({report['objects']})", "",
              f"status **{report['status']}**; {report['episodes_finished']} of {report['episodes_requested']} "
              f"episodes (seed {report['seed']}); success rate **{rate}** "
-             f"(95 % interval {ci[0]:.2f}–{ci[1]:.2f}); mean steps {report.get('mean_steps')}, "
-             f"median {report.get('median_seconds')} s per episode; wall {report.get('wall_s')} s", ""]
+             f"(95 % interval {ci[0]:.2f}–{ci[1]:.2f}); mean steps {_or_na(report.get('mean_steps'))}, "
+             f"median {_or_na(report.get('median_seconds'), ' s')} per episode; wall {report.get('wall_s')} s", ""]
+    if report.get("status_note"):
+        lines += [f"**{report['status_note']}**", ""]
     if report.get("error"):
         lines += [f"error: {report['error']}", ""]
     lines += _table("By object", report.get("by_object", {}))

@@ -15,6 +15,7 @@ import enum
 import json
 import math
 import os
+import secrets
 import tempfile
 from pathlib import Path
 from typing import Any
@@ -89,6 +90,19 @@ def check_writable_dir(path: str | Path, what: str = "output folder") -> Path:
     return p
 
 
+def _new_temporary(p: Path) -> tuple[int, str]:
+    """A new temporary file next to ``p`` (open for writing), with the permissions of any new
+    file: 0666 less the umask, as the PNGs and videos beside it (``tempfile.mkstemp`` makes it
+    0600, and the report renamed from it could be read by its owner only)."""
+    for _ in range(100):
+        tmp = p.parent / f".{p.name}.{os.getpid()}-{secrets.token_hex(4)}.tmp"
+        try:
+            return os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666), str(tmp)
+        except FileExistsError:
+            continue
+    raise FileExistsError(f"no free temporary name next to {p}")
+
+
 def write_json(path: str | Path, obj: Any, sort_keys: bool = False) -> Path:
     """Write ``obj`` as strict JSON to ``path`` atomically; returns the path."""
     p = Path(path)
@@ -96,7 +110,7 @@ def write_json(path: str | Path, obj: Any, sort_keys: bool = False) -> Path:
     tmp = None
     try:
         p.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".tmp", dir=p.parent)
+        fd, tmp = _new_temporary(p)
         with os.fdopen(fd, "w", encoding="utf-8") as fh:
             fh.write(text)
             fh.write("\n")

@@ -35,3 +35,11 @@ def test_figures_group_by_task_word_and_object():
               "episodes_finished": 3, "episodes_requested": 3, "seed": 0, "wall_s": 1.0, **f, "episodes": rows}
     md = summary_markdown(report)
     assert "success rate **0.33**" in md and "| cube | 2 | 1 | 0.50 |" in md
+
+
+def test_a_summary_without_finished_episodes_says_n_a():
+    report = {"policy": "p", "protocol": "sparse", "objects": "builtin", "status": "interrupted",
+              "episodes_finished": 0, "episodes_requested": 2, "seed": 0, "wall_s": 1.0, "episodes": []}
+    md = summary_markdown(report)
+    assert "success rate **n/a**" in md and "mean steps n/a, median n/a per episode" in md
+    assert "None" not in md

@@ -40,6 +40,19 @@ def test_write_json_replaces_a_file_atomically(tmp_path):
     assert [p.name for p in tmp_path.iterdir()] == ["report.json"]  # no temporary left
 
 
+def test_a_written_report_has_the_permissions_of_any_new_file(tmp_path):
+    """0666 less the umask, like the images beside it — not the 0600 of a temporary file."""
+    old = os.umask(0o022)
+    try:
+        write_json(tmp_path / "shared.json", {"run": 1})
+        os.umask(0o077)
+        write_json(tmp_path / "private.json", {"run": 1})
+    finally:
+        os.umask(old)
+    assert (tmp_path / "shared.json").stat().st_mode & 0o777 == 0o644
+    assert (tmp_path / "private.json").stat().st_mode & 0o777 == 0o600
+
+
 def test_a_failed_write_keeps_the_previous_file_and_names_the_path(tmp_path, monkeypatch):
     path = tmp_path / "report.json"
     write_json(path, {"run": 1})
