@@ -477,6 +477,8 @@ class SimWorld:
         # object-table contacts; only robot / non-robot pairs are looked at one by one.
         pairs = d.contact.geom
         robot = self._robot_geom[pairs]
+        if not np.count_nonzero(robot):  # (the usual case: the robot touches nothing)
+            return out
         for i in np.flatnonzero(robot[:, 0] != robot[:, 1]):
             g1, g2 = int(pairs[i, 0]), int(pairs[i, 1])
             rg, og = (g1, g2) if robot[i, 0] else (g2, g1)
