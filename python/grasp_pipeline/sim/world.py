@@ -128,6 +128,7 @@ class SimWorld:
         base_root = m.body(BASE_BODY).id
         self._robot_geom = m.body_rootid[m.geom_bodyid] == base_root
         self._geom_names: list[str] | None = None
+        self._unexpected_memo: tuple[tuple, list[str]] | None = None
         self._check_table_height()
 
         start_q = np.asarray(self.scene.start_q, dtype=float)
@@ -462,6 +463,25 @@ class SimWorld:
     def is_robot_geom(self, geom_id: int) -> bool:
         return bool(self._robot_geom[geom_id])
 
+    def _robot_pairs(self) -> np.ndarray | None:
+        """(k, 2) geom ids (robot geom, other geom) of the contacts between a robot geom and a
+        non-robot geom, in contact order; None when there is none. Vectorised (called at every
+        monitored physics step): most contacts are object-table contacts."""
+        d = self.data
+        if d.ncon == 0:
+            return None
+        pairs = d.contact.geom
+        robot = self._robot_geom[pairs]
+        if not np.count_nonzero(robot):  # (the usual case: the robot touches nothing)
+            return None
+        mixed = robot[:, 0] != robot[:, 1]
+        if not mixed.any():
+            return None
+        out = pairs[mixed]
+        swap = ~robot[mixed, 0]
+        out[swap] = out[swap][:, ::-1]
+        return out
+
     def robot_contacts(self, include_objects: bool = True) -> list[tuple[str, str]]:
         """Active contacts between robot geoms and non-robot geoms, as
         ``(robot_geom_name, other_geom_name)`` pairs (one entry per contact point).
@@ -469,24 +489,12 @@ class SimWorld:
         ``include_objects=False`` leaves out contacts with the graspable objects (``obj_*``),
         i.e. lists only robot-environment contacts (table, floor, wall, tray).
         """
-        out: list[tuple[str, str]] = []
-        d = self.data
-        if d.ncon == 0:
-            return out
-        # Vectorised pre-filter (called at every monitored physics step): most contacts are
-        # object-table contacts; only robot / non-robot pairs are looked at one by one.
-        pairs = d.contact.geom
-        robot = self._robot_geom[pairs]
-        if not np.count_nonzero(robot):  # (the usual case: the robot touches nothing)
-            return out
-        for i in np.flatnonzero(robot[:, 0] != robot[:, 1]):
-            g1, g2 = int(pairs[i, 0]), int(pairs[i, 1])
-            rg, og = (g1, g2) if robot[i, 0] else (g2, g1)
-            other = self.geom_name(og)
-            if not include_objects and other.startswith(OBJECT_PREFIX):
-                continue
-            out.append((self.geom_name(rg), other))
-        return out
+        pairs = self._robot_pairs()
+        if pairs is None:
+            return []
+        name = self.geom_name
+        out = [(name(r), name(o)) for r, o in pairs.tolist()]
+        return out if include_objects else [(r, o) for r, o in out if not o.startswith(OBJECT_PREFIX)]
 
     def unexpected_contacts(self, allowance: ContactAllowance) -> list[str]:
         """The contact monitor (:class:`~grasp_pipeline.robot.protocols.ContactMonitor`):
@@ -494,19 +502,34 @@ class SimWorld:
 
         ``FINGERS``: finger geoms touching objects are expected. ``HELD_OBJECT``: the objects
         the finger pads touch now (any of their collision parts) may touch any robot geom (a
-        held object tilting against the palm). Fixtures (table, tray, wall) are never expected."""
-        contacts = self.robot_contacts()
-        if allowance is ContactAllowance.NONE or not contacts:
-            return [f"{r}-{o}" for r, o in contacts]
-        if allowance is ContactAllowance.FINGERS:
-            ok = {(r, o) for r, o in contacts if FINGER_GEOM_MARK in r and o.startswith(OBJECT_PREFIX)}
-        else:
-            held = {geom_object(o) for r, o in contacts
-                    if FINGER_GEOM_MARK in r and o.startswith(OBJECT_PREFIX)}
-            ok = {(r, o) for r, o in contacts if geom_object(o) in held}
-        return [f"{r}-{o}" for r, o in contacts if (r, o) not in ok]
+        held object tilting against the palm). Fixtures (table, tray, wall) are never expected.
+        (The answer for the latest set of contact pairs is kept: a held object's contacts
+        stay the same for many steps.)"""
+        pairs = self._robot_pairs()
+        if pairs is None:
+            return []
+        key = (allowance, pairs.tobytes())
+        if self._unexpected_memo is None or self._unexpected_memo[0] != key:
+            name = self.geom_name
+            self._unexpected_memo = (key, _unexpected([(name(r), name(o)) for r, o in pairs.tolist()],
+                                                      allowance))
+        return list(self._unexpected_memo[1])
 
     @property
     def work_cell(self) -> WorkCell:
         """The table top, the tray's boxes and the tray centre, read from the model."""
         return read_work_cell(self.model, self.data)
+
+
+def _unexpected(contacts: list[tuple[str, str]], allowance: ContactAllowance) -> list[str]:
+    """The robot contacts (robot geom, other geom) that ``allowance`` does not cover, as
+    ``"robot_geom-other_geom"`` (see :meth:`SimWorld.unexpected_contacts`)."""
+    if allowance is ContactAllowance.NONE:
+        return [f"{r}-{o}" for r, o in contacts]
+    if allowance is ContactAllowance.FINGERS:
+        ok = {(r, o) for r, o in contacts if FINGER_GEOM_MARK in r and o.startswith(OBJECT_PREFIX)}
+    else:
+        held = {geom_object(o) for r, o in contacts
+                if FINGER_GEOM_MARK in r and o.startswith(OBJECT_PREFIX)}
+        ok = {(r, o) for r, o in contacts if geom_object(o) in held}
+    return [f"{r}-{o}" for r, o in contacts if (r, o) not in ok]
