@@ -41,9 +41,15 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--no-baseline", action="store_true",
                    help="skip the baseline (then no speedup is reported)")
 
-    s = bsub.add_parser("sim", help="simulation real-time factors")
+    s = bsub.add_parser("sim", help="simulation real-time factors and the pick loop's CPU breakdown")
     s.add_argument("--seconds", type=positive_float, default=5.0, help="simulated seconds")
     s.add_argument("--json", type=Path, required=True)
+    s.add_argument("--pick-scene", default="packed", choices=["packed", "pile", "random", "sparse", "reference", "none"],
+                   help="scene of the pick-loop round (run --declutter; default packed; none: no round)")
+    s.add_argument("--pick-seed", type=non_negative_int, default=3, help="seed of the pick-loop scene (default 3)")
+    s.add_argument("--pick-objects", default="builtin", metavar="builtin|DIR",
+                   help="object set of a packed/pile pick-loop scene (default builtin)")
+    _add_config_options(s, "scene_filter, obb, camera, sim, clutter, motion, scan, grasp", "sim.object_count=[1,3]")
 
     pl = bsub.add_parser("planning", help="planning success / speed on random scenes")
     pl.add_argument("--scenes", type=positive_int, default=50)
@@ -361,6 +367,15 @@ def _print_json(result: dict) -> None:
     print(dumps(result, sort_keys=True))
 
 
+def _bench_sim(args: argparse.Namespace) -> None:
+    from .bench.sim_bench import run_sim_benchmark
+
+    _print_json(run_sim_benchmark(
+        seconds=args.seconds, json_path=args.json,
+        pick_scene=None if args.pick_scene == "none" else args.pick_scene, pick_seed=args.pick_seed,
+        pick_objects=args.pick_objects, overrides=(args.config, args.sets)))
+
+
 def _run_bench(args: argparse.Namespace) -> int:
     """The ``bench`` sub-commands; the exit code (1 when no scene or round of ``bench grasp`` /
     ``bench clutter`` ran to its end: status ``failed``)."""
@@ -371,9 +386,7 @@ def _run_bench(args: argparse.Namespace) -> int:
             frames=args.frames, json_path=args.json,
             baseline_frames=0 if args.no_baseline else args.baseline_frames))
     elif args.bench == "sim":
-        from .bench.sim_bench import run_sim_benchmark
-
-        _print_json(run_sim_benchmark(seconds=args.seconds, json_path=args.json))
+        _bench_sim(args)
     elif args.bench == "planning":
         from .bench.planning_bench import run_planning_benchmark
 

@@ -1,10 +1,16 @@
-"""Simulator speed: real-time factors with and without the 640x480 depth camera.
+"""Simulator speed: real-time factors with and without the 640x480 depth camera, and the
+pick loop's.
 
 The arm follows a smooth joint trajectory (a slow sinusoid around the ready pose, velocities
 included) in the reference scene for ``seconds`` of simulated time, twice:
 
 * physics only (no frames): ``physics_real_time_factor`` = simulated / wall-clock seconds;
 * with the depth camera capturing at its rate (30 Hz simulated): ``real_time_factor``.
+
+Then, unless ``pick_scene`` is None, one pick-loop round (:mod:`.pick_loop_bench`: a
+``run --declutter`` of ``pick_scene`` / ``pick_seed`` / ``pick_objects``, by default packed
+seed 3 of the built-in objects) with its simulated seconds per CPU second and the CPU
+breakdown physics / render / perception / planning / control / other (``pick_loop``).
 
 Targets (issue): physics >= 20x real time, with the camera >= 1x, on one core. The camera's
 backend (egl / osmesa / raycast) is part of the result.
@@ -24,10 +30,13 @@ from pathlib import Path
 
 import numpy as np
 
+from ..app.sim_system import SECTIONS
 from ..report.serialize import write_json
+from ..settings import load_settings
 from ..sim.config import load_sim_config
 from ..robot.description import READY_Q
 from ..sim.world import SimWorld
+from .pick_loop_bench import run_pick_loop
 
 log = logging.getLogger(__name__)
 
@@ -37,6 +46,10 @@ CAMERA_RTF_TARGET = 1.0
 MOTION_AMPLITUDE_RAD = np.array([0.4, 0.25, 0.3, 0.3, 0.4, 0.3, 0.5])
 MOTION_PERIOD_S = 4.0
 MOTION_SAMPLES_PER_S = 50
+#: The pick-loop round: a packed scene of the built-in objects, cleared (``run --declutter``).
+PICK_SCENE = "packed"
+PICK_SEED = 3
+PICK_OBJECTS = "builtin"
 
 
 def _benchmark_trajectory(seconds: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -74,10 +87,18 @@ def _run(seconds: float, camera: bool) -> dict:
         world.close()
 
 
-def run_sim_benchmark(seconds: float, json_path: str | Path | None) -> dict:
-    """Run both passes, write the JSON (if ``json_path``) and return the result."""
+def run_sim_benchmark(seconds: float, json_path: str | Path | None, pick_scene: str | None = PICK_SCENE,
+                      pick_seed: int = PICK_SEED, pick_objects: str = PICK_OBJECTS,
+                      overrides: tuple = (None, ())) -> dict:
+    """Run both passes and the pick loop (``pick_scene`` None: without it; ``overrides``:
+    ``(config_file, [name=value, ...])`` for its settings), write the JSON (if ``json_path``)
+    and return the result."""
+    settings = None
+    if pick_scene is not None:  # bad settings fail before anything runs
+        settings = load_settings(SECTIONS, overrides[0], list(overrides[1]))
     physics = _run(seconds, camera=False)
     with_cam = _run(seconds, camera=True)
+    pick_loop = None if settings is None else run_pick_loop(pick_scene, pick_seed, pick_objects, settings)
     result = {
         "seconds": seconds,
         "physics_real_time_factor": physics["real_time_factor"],
@@ -93,6 +114,7 @@ def run_sim_benchmark(seconds: float, json_path: str | Path | None) -> dict:
                               and with_cam["real_time_factor"] >= CAMERA_RTF_TARGET),
         "physics_pass": physics,
         "camera_pass": with_cam,
+        "pick_loop": pick_loop,
         "machine": {"python": platform.python_version(), "cpu_count": os.cpu_count(),
                     "MUJOCO_GL": os.environ.get("MUJOCO_GL", "")},
     }
@@ -102,5 +124,9 @@ def run_sim_benchmark(seconds: float, json_path: str | Path | None) -> dict:
     log.info("sim benchmark: physics %.1fx real time, with %s camera %.2fx (%d frames)",
              result["physics_real_time_factor"], result["camera_backend"],
              result["real_time_factor"], result["frames"])
+    if pick_loop is not None:
+        log.info("pick loop (%s seed %d): %.1f simulated s per CPU s; CPU shares %s", pick_scene, pick_seed,
+                 pick_loop["cpu_real_time_factor"],
+                 ", ".join(f"{k} {100 * v:.0f} %" for k, v in pick_loop["breakdown_share"].items()))
     return result
 

@@ -98,8 +98,9 @@ class TrajectoryExecutor:
             log.info("moving away from contacts %s", sorted(tolerated))
         t_start = float(w.time_s)
         t_end = w.follow_trajectory(traj.t_s, traj.q, traj.qd)
+        t_stop = t_end - 0.5 * w.timestep_s
         try:
-            while w.time_s < t_end - 0.5 * w.timestep_s:
+            while w.time_s < t_stop:
                 w.step(_MONITOR_EVERY_STEPS)
                 self._monitor(rep, allowance, tolerated)
                 yield
@@ -134,7 +135,7 @@ class TrajectoryExecutor:
         cfg = self.config
         w = self.world
         q_ref, _ = w.reference()
-        err = float(np.max(np.abs(q_ref - w.q)))
+        err = float(np.abs(q_ref - w.q).max())
         rep.max_tracking_error_rad = max(rep.max_tracking_error_rad, err)
         if err > cfg.tracking_error_limit_rad:
             self._stop("tracking", f"tracking error {err:.4f} rad exceeds {cfg.tracking_error_limit_rad} rad")

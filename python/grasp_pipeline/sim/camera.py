@@ -3,8 +3,9 @@
 Backends (chosen once, logged at INFO):
 
 * ``gl`` — MuJoCo's offscreen renderer with the headless context picked by
-  :mod:`.gl_backend` (``MUJOCO_GL`` = ``egl`` or ``osmesa``); the depth buffer is linearised
-  by MuJoCo into metres along the optical axis.
+  :mod:`.gl_backend` (``MUJOCO_GL`` = ``egl`` or ``osmesa``), one render pass per frame read
+  back as depth and colour (:mod:`.rgbd_renderer`); the depth buffer is linearised as
+  ``mujoco.Renderer`` does it into metres along the optical axis.
 * ``raycast`` — :func:`mujoco.mj_multiRay`, one ray per pixel through the pixel centre, for
   machines without any GL; it produces the same frame format (and, up to the depth buffer's
   precision, the same depths). See :meth:`DepthCamera._clean_depth_raycast` for how it is made
@@ -19,9 +20,9 @@ default), and the back-projection ``p_cam = z * ((u - cx)/fx, (v - cy)/fy, 1)``,
 ``p_world = T_world_camera p_cam``.
 
 Colour (``camera.rgb``, on by default): ``Frame.rgb`` is rendered by the same camera at the
-same instant as the depth, so pixel (u, v) of both shows the same surface. GL: a second pass of
-the same renderer and scene without depth rendering (shadows, reflections and skybox stay off
-as for the depth: in software GL they cost several times a whole frame). Ray cast: the hit
+same instant as the depth, so pixel (u, v) of both shows the same surface. GL: colour and depth
+are read from one render pass (:class:`~.rgbd_renderer.RgbdRenderer`; shadows, reflections and
+skybox off: in software GL they cost several times a whole frame). Ray cast: the hit
 geom's colour (its material's, times the mean texel of the material's texture, when it has a
 material and no colour of its own) with Lambert shading by a light at the camera,
 ``ambient + (1 - ambient) |n . r|`` for the hit surface normal ``n`` and unit ray ``r``; no hit
@@ -56,6 +57,7 @@ from .exceptions import RenderError, RenderUnavailable
 from ..robot.frame import Frame
 from ..robot.description import CAMERA_NAME
 from .gl_backend import gl_in_effect, new_renderer
+from .rgbd_renderer import RgbdRenderer
 
 log = logging.getLogger(__name__)
 
@@ -193,7 +195,7 @@ class DepthCamera:
         self._eval_geoms: np.ndarray | None = None
         self._eval_frame_key: tuple | None = None
         self._mat_texel: np.ndarray | None = None  # (nmat, 3) mean texel of each material
-        self._renderer: mujoco.Renderer | None = None
+        self._renderer: RgbdRenderer | None = None
         self._frame_index = 0
         self._pool: ThreadPoolExecutor | None = None
         self._ray_scenes: OrderedDict[tuple, _RayScene] = OrderedDict()
@@ -215,9 +217,8 @@ class DepthCamera:
         if cfg.backend == "raycast":
             return "raycast"
         try:
-            self._renderer = new_renderer(self.model, cfg.height_px, cfg.width_px)
-            self._renderer.enable_depth_rendering()
-            # Depth needs none of these; they cost 2-3x the render time in software GL.
+            self._renderer = new_renderer(self.model, cfg.height_px, cfg.width_px, RgbdRenderer)
+            # The frame needs none of these; they cost 2-3x the render time in software GL.
             for flag in (mujoco.mjtRndFlag.mjRND_SHADOW, mujoco.mjtRndFlag.mjRND_REFLECTION,
                          mujoco.mjtRndFlag.mjRND_SKYBOX):
                 self._renderer.scene.flags[flag] = 0
@@ -270,34 +271,16 @@ class DepthCamera:
         T[:3, 3] = self.data.cam_xpos[self.cam_id]
         return T
 
-    def _clean_depth_gl(self) -> np.ndarray:
-        assert self._renderer is not None
-        self._renderer.update_scene(self.data, camera=self.cam_id)
-        return np.asarray(self._renderer.render(), dtype=np.float32)
-
-    def _rgb_gl(self) -> np.ndarray:
-        """Colour of the scene the last :meth:`_clean_depth_gl` rendered (same instant)."""
+    def _clean_images_gl(self, want_geoms: bool) -> tuple[np.ndarray, np.ndarray | None,
+                                                          np.ndarray | None]:
+        """Clean depth and (when ``rgb`` is on) colour from one render pass; with
+        ``want_geoms`` also the geom per pixel of the same scene (MuJoCo's segmentation
+        pass), -1 for anything else (background, non-geom decor)."""
         r = self._renderer
         assert r is not None
-        r.disable_depth_rendering()
-        try:
-            return np.ascontiguousarray(r.render(), dtype=np.uint8)
-        finally:
-            r.enable_depth_rendering()
-
-    def _geoms_gl(self) -> np.ndarray:
-        """Per pixel, the geom of the scene the last :meth:`_clean_depth_gl` rendered (MuJoCo's
-        segmentation rendering), -1 for anything else (background, non-geom decor)."""
-        r = self._renderer
-        assert r is not None
-        r.enable_segmentation_rendering()
-        try:
-            seg = r.render()
-        finally:
-            r.disable_segmentation_rendering()
-            r.enable_depth_rendering()
-        is_geom = seg[..., 1] == int(mujoco.mjtObj.mjOBJ_GEOM)
-        return np.where(is_geom, seg[..., 0], -1).astype(np.int32)
+        r.update_scene(self.data, self.cam_id)
+        z, rgb = r.render(rgb=self._rgb)
+        return z, rgb, (r.segmentation() if want_geoms else None)
 
     def _clean_depth_raycast(self, T_world_camera: np.ndarray,
                              hits: _RayHits | None = None) -> np.ndarray:
@@ -545,9 +528,7 @@ class DepthCamera:
             rgb = self._rgb_raycast(hits) if self._rgb else None
             geoms = hits.geom if want_geoms else None
         else:
-            z = self._clean_depth_gl()
-            rgb = self._rgb_gl() if self._rgb else None
-            geoms = self._geoms_gl() if want_geoms else None
+            z, rgb, geoms = self._clean_images_gl(want_geoms)
         return z, rgb, geoms
 
     def capture(self) -> Frame:

@@ -10,7 +10,8 @@ fix their GL platform then; a process cannot switch later. So:
   once; the choice is written to ``MUJOCO_GL`` so worker processes inherit it); when none
   works, ``MUJOCO_GL=disable`` and the depth camera ray-casts. Importing this module does
   nothing.
-* :func:`new_renderer` — the only place a ``mujoco.Renderer`` is made. It refuses with
+* :func:`new_renderer` — the only place a renderer (``mujoco.Renderer`` or the depth
+  camera's :class:`~.rgbd_renderer.RgbdRenderer`) is made. It refuses with
   :class:`~.exceptions.RenderUnavailable` (a clean Python error) when no context can exist:
   GL disabled, or MuJoCo's default GLFW platform without a display (trying that aborts the
   process), or an earlier attempt in this process failed (a second attempt can abort too).
@@ -22,7 +23,7 @@ import logging
 import os
 import subprocess
 import sys
-from typing import Optional
+from typing import Any, Callable, Optional
 
 from .exceptions import RenderUnavailable
 
@@ -106,8 +107,10 @@ def gl_unavailable_reason() -> Optional[str]:
     return None
 
 
-def new_renderer(model, height_px: int, width_px: int):
-    """A ``mujoco.Renderer``, or :class:`RenderUnavailable` when none can be made here."""
+def new_renderer(model, height_px: int, width_px: int,
+                 renderer_class: Optional[Callable[..., Any]] = None):
+    """A ``renderer_class(model, height_px, width_px)`` (default ``mujoco.Renderer``), or
+    :class:`RenderUnavailable` when none can be made here."""
     global _failure
     reason = gl_unavailable_reason()
     if reason is not None:
@@ -118,7 +121,10 @@ def new_renderer(model, height_px: int, width_px: int):
     vis.offwidth = max(int(vis.offwidth), int(width_px))
     vis.offheight = max(int(vis.offheight), int(height_px))
     try:
-        return mujoco.Renderer(model, int(height_px), int(width_px))
+        make = mujoco.Renderer if renderer_class is None else renderer_class
+        return make(model, int(height_px), int(width_px))
+    except RenderUnavailable:
+        raise
     except Exception as exc:  # any GL failure: missing library, no device, ...
         _failure = f"GL context creation failed with MUJOCO_GL={gl_in_effect() or '(unset)'}: {exc}"
         raise RenderUnavailable(_failure) from exc

@@ -37,6 +37,7 @@ from ..assets import asset_path
 from .camera import DepthCamera
 from .config import CameraConfig, SimConfig, load_camera_config, load_sim_config
 from .exceptions import GripperError, ModelError, TrajectoryError
+from .joint_reference import TrajectoryReference
 from ..robot.frame import Frame
 from ..robot.description import (
     BASE_BODY,
@@ -70,6 +71,14 @@ TRAJECTORY_LIMIT_SLACK_RAD = 1e-3
 TABLE_TOP_TOLERANCE_M = 1e-6
 
 
+def _as_slice(idx: np.ndarray) -> slice | np.ndarray:
+    """A slice for consecutive indices (cheaper to read and write at every step), else ``idx``."""
+    idx = np.asarray(idx)
+    if len(idx) and np.array_equal(idx, np.arange(idx[0], idx[0] + len(idx))):
+        return slice(int(idx[0]), int(idx[0]) + len(idx))
+    return idx
+
+
 def build_scene_model(scene: SceneSpec, config: SimConfig) -> mujoco.MjModel:
     """Compile robot + fixed set-up + the scene's objects into one ``MjModel``."""
     spec = mujoco.MjSpec.from_file(str(asset_path(SCENE_BASE_XML)))
@@ -81,56 +90,6 @@ def build_scene_model(scene: SceneSpec, config: SimConfig) -> mujoco.MjModel:
         raise ModelError(f"cannot compile scene {scene.name!r}: {exc}") from exc
     model.opt.timestep = config.timestep_s
     return model
-
-
-class _Trajectory:
-    """A joint reference ``q(t)``, ``qd(t)`` on absolute simulated time.
-
-    Per segment a cubic in the normalised time ``s`` (Hermite from the sample velocities, or
-    linear without them); coefficients are precomputed and the segment index is cached, since
-    the reference is sampled at every physics step.
-    """
-
-    def __init__(self, t_abs: np.ndarray, q: np.ndarray, qd: np.ndarray | None):
-        self.t = t_abs
-        self.q = q
-        n_seg = max(len(t_abs) - 1, 0)
-        self.h = np.diff(t_abs)
-        if n_seg == 0:
-            self.coef = np.zeros((0, 4, q.shape[1]))
-        elif qd is None:
-            dq = np.diff(q, axis=0)
-            zero = np.zeros_like(dq)
-            self.coef = np.stack([q[:-1], dq, zero, zero], axis=1)
-        else:
-            m0 = qd[:-1] * self.h[:, None]
-            m1 = qd[1:] * self.h[:, None]
-            q0, q1 = q[:-1], q[1:]
-            self.coef = np.stack([q0, m0, 3 * (q1 - q0) - 2 * m0 - m1,
-                                  2 * (q0 - q1) + m0 + m1], axis=1)
-        self._seg = 0
-        self._zero = np.zeros(q.shape[1])
-
-    @property
-    def end_time_s(self) -> float:
-        return float(self.t[-1])
-
-    def sample(self, t: float) -> tuple[np.ndarray, np.ndarray]:
-        tt = self.t
-        if t < tt[0] or len(tt) == 1:
-            return self.q[0], self._zero
-        if t >= tt[-1]:
-            return self.q[-1], self._zero
-        i = self._seg
-        if not tt[i] <= t < tt[i + 1]:
-            i = int(np.searchsorted(tt, t, side="right")) - 1
-            self._seg = i
-        h = self.h[i]
-        s = (t - tt[i]) / h
-        a, b, c, d = self.coef[i]
-        q = ((d * s + c) * s + b) * s + a
-        qd = ((3.0 * d * s + 2.0 * c) * s + b) / h
-        return q, qd
 
 
 class SimWorld:
@@ -154,11 +113,12 @@ class SimWorld:
         self.model = build_scene_model(self.scene, self.config)
         self.data = mujoco.MjData(self.model)
         m = self.model
-        self._qpos_idx = arm_qpos_indices(m)
-        self._dof_idx = arm_dof_indices(m)
-        self._act_idx = np.array([m.actuator(n).id for n in PANDA_ACTUATOR_NAMES])
+        self._qpos_idx = _as_slice(arm_qpos_indices(m))
+        self._dof_idx = _as_slice(arm_dof_indices(m))
+        act_ids = np.array([m.actuator(n).id for n in PANDA_ACTUATOR_NAMES])
+        self._act_idx = _as_slice(act_ids)
         self._kv_over_kp = np.array([-m.actuator_biasprm[a, 2] / m.actuator_gainprm[a, 0]
-                                     for a in self._act_idx])
+                                     for a in act_ids])
         self._grip_act = m.actuator(GRIPPER_ACTUATOR).id
         self._gap_tendon = m.tendon(FINGER_GAP_TENDON).id
         self._finger_dofs = np.array([m.joint(n).dofadr[0] for n in FINGER_JOINT_NAMES])
@@ -168,13 +128,14 @@ class SimWorld:
         base_root = m.body(BASE_BODY).id
         self._robot_geom = m.body_rootid[m.geom_bodyid] == base_root
         self._geom_names: list[str] | None = None
+        self._unexpected_memo: tuple[tuple, list[str]] | None = None
         self._check_table_height()
 
         start_q = np.asarray(self.scene.start_q, dtype=float)
         self.data.qpos[self._qpos_idx] = start_q
         self.data.qpos[self._finger_qpos] = GRIPPER_MAX_WIDTH_M / 2
-        self._traj: _Trajectory | None = None
-        self._hold_q = start_q.copy()
+        self._traj: TrajectoryReference | None = None
+        self._ref = self._held(start_q.copy())  # what the servos follow: the trajectory or a hold
         self._grip_target_m = GRIPPER_MAX_WIDTH_M
         self._grip_cmd_m = GRIPPER_MAX_WIDTH_M
         self._grip_speed_mps = self.config.gripper_speed_mps
@@ -308,13 +269,20 @@ class SimWorld:
             if qdd.shape != qq.shape or not np.all(np.isfinite(qdd)):
                 raise TrajectoryError(f"qd must be finite with shape {qq.shape}, got {qdd.shape}")
         t0 = self.time_s if start_time_s is None else float(start_time_s)
-        self._traj = _Trajectory(t + t0, qq.copy(), None if qdd is None else qdd.copy())
+        self._traj = TrajectoryReference(t + t0, qq.copy(), None if qdd is None else qdd.copy(),
+                                         self._kv_over_kp, self.timestep_s)
+        self._ref = self._traj
         return self._traj.end_time_s
 
     def hold(self, q: np.ndarray | None = None) -> None:
         """Drop the trajectory and hold ``q`` (default: the current joints)."""
         self._traj = None
-        self._hold_q = self.q if q is None else np.asarray(q, dtype=float).reshape(7).copy()
+        self._ref = self._held(self.q if q is None else np.asarray(q, dtype=float).reshape(7).copy())
+
+    def _held(self, q: np.ndarray) -> TrajectoryReference:
+        """The reference of holding ``q`` (one sample: ``q`` at any time, zero velocity)."""
+        return TrajectoryReference(np.array([self.time_s]), q[None, :], None, self._kv_over_kp,
+                                   self.timestep_s)
 
     @property
     def trajectory_end_time_s(self) -> float | None:
@@ -326,11 +294,8 @@ class SimWorld:
         return self._traj is None or self.time_s >= self._traj.end_time_s
 
     def reference(self, t: float | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """The joint reference (q_ref, qd_ref) at time ``t`` (default: now)."""
-        t = self.time_s if t is None else t
-        if self._traj is None:
-            return self._hold_q, np.zeros(7)
-        return self._traj.sample(t)
+        """The joint reference (q_ref, qd_ref) at time ``t`` (default: now); read-only arrays."""
+        return self._ref.sample(self.time_s if t is None else t)
 
     # ------------------------------------------------------------------ gripper
     def _set_grip_effort(self, effort_N: float) -> None:
@@ -363,8 +328,7 @@ class SimWorld:
 
     # ------------------------------------------------------------------ stepping
     def _apply_controls(self) -> None:
-        q_ref, qd_ref = self.reference()
-        self.data.ctrl[self._act_idx] = q_ref + self._kv_over_kp * qd_ref
+        self.data.ctrl[self._act_idx] = self._ref.command(self.data.time)
         if self._grip_cmd_m != self._grip_target_m:
             step = self._grip_speed_mps * self.model.opt.timestep
             diff = self._grip_target_m - self._grip_cmd_m
@@ -499,6 +463,25 @@ class SimWorld:
     def is_robot_geom(self, geom_id: int) -> bool:
         return bool(self._robot_geom[geom_id])
 
+    def _robot_pairs(self) -> np.ndarray | None:
+        """(k, 2) geom ids (robot geom, other geom) of the contacts between a robot geom and a
+        non-robot geom, in contact order; None when there is none. Vectorised (called at every
+        monitored physics step): most contacts are object-table contacts."""
+        d = self.data
+        if d.ncon == 0:
+            return None
+        pairs = d.contact.geom
+        robot = self._robot_geom[pairs]
+        if not np.count_nonzero(robot):  # (the usual case: the robot touches nothing)
+            return None
+        mixed = robot[:, 0] != robot[:, 1]
+        if not mixed.any():
+            return None
+        out = pairs[mixed]
+        swap = ~robot[mixed, 0]
+        out[swap] = out[swap][:, ::-1]
+        return out
+
     def robot_contacts(self, include_objects: bool = True) -> list[tuple[str, str]]:
         """Active contacts between robot geoms and non-robot geoms, as
         ``(robot_geom_name, other_geom_name)`` pairs (one entry per contact point).
@@ -506,22 +489,12 @@ class SimWorld:
         ``include_objects=False`` leaves out contacts with the graspable objects (``obj_*``),
         i.e. lists only robot-environment contacts (table, floor, wall, tray).
         """
-        out: list[tuple[str, str]] = []
-        d = self.data
-        if d.ncon == 0:
-            return out
-        # Vectorised pre-filter (called at every monitored physics step): most contacts are
-        # object-table contacts; only robot / non-robot pairs are looked at one by one.
-        pairs = d.contact.geom
-        robot = self._robot_geom[pairs]
-        for i in np.flatnonzero(robot[:, 0] != robot[:, 1]):
-            g1, g2 = int(pairs[i, 0]), int(pairs[i, 1])
-            rg, og = (g1, g2) if robot[i, 0] else (g2, g1)
-            other = self.geom_name(og)
-            if not include_objects and other.startswith(OBJECT_PREFIX):
-                continue
-            out.append((self.geom_name(rg), other))
-        return out
+        pairs = self._robot_pairs()
+        if pairs is None:
+            return []
+        name = self.geom_name
+        out = [(name(r), name(o)) for r, o in pairs.tolist()]
+        return out if include_objects else [(r, o) for r, o in out if not o.startswith(OBJECT_PREFIX)]
 
     def unexpected_contacts(self, allowance: ContactAllowance) -> list[str]:
         """The contact monitor (:class:`~grasp_pipeline.robot.protocols.ContactMonitor`):
@@ -529,19 +502,34 @@ class SimWorld:
 
         ``FINGERS``: finger geoms touching objects are expected. ``HELD_OBJECT``: the objects
         the finger pads touch now (any of their collision parts) may touch any robot geom (a
-        held object tilting against the palm). Fixtures (table, tray, wall) are never expected."""
-        contacts = self.robot_contacts()
-        if allowance is ContactAllowance.NONE or not contacts:
-            return [f"{r}-{o}" for r, o in contacts]
-        if allowance is ContactAllowance.FINGERS:
-            ok = {(r, o) for r, o in contacts if FINGER_GEOM_MARK in r and o.startswith(OBJECT_PREFIX)}
-        else:
-            held = {geom_object(o) for r, o in contacts
-                    if FINGER_GEOM_MARK in r and o.startswith(OBJECT_PREFIX)}
-            ok = {(r, o) for r, o in contacts if geom_object(o) in held}
-        return [f"{r}-{o}" for r, o in contacts if (r, o) not in ok]
+        held object tilting against the palm). Fixtures (table, tray, wall) are never expected.
+        (The answer for the latest set of contact pairs is kept: a held object's contacts
+        stay the same for many steps.)"""
+        pairs = self._robot_pairs()
+        if pairs is None:
+            return []
+        key = (allowance, pairs.tobytes())
+        if self._unexpected_memo is None or self._unexpected_memo[0] != key:
+            name = self.geom_name
+            self._unexpected_memo = (key, _unexpected([(name(r), name(o)) for r, o in pairs.tolist()],
+                                                      allowance))
+        return list(self._unexpected_memo[1])
 
     @property
     def work_cell(self) -> WorkCell:
         """The table top, the tray's boxes and the tray centre, read from the model."""
         return read_work_cell(self.model, self.data)
+
+
+def _unexpected(contacts: list[tuple[str, str]], allowance: ContactAllowance) -> list[str]:
+    """The robot contacts (robot geom, other geom) that ``allowance`` does not cover, as
+    ``"robot_geom-other_geom"`` (see :meth:`SimWorld.unexpected_contacts`)."""
+    if allowance is ContactAllowance.NONE:
+        return [f"{r}-{o}" for r, o in contacts]
+    if allowance is ContactAllowance.FINGERS:
+        ok = {(r, o) for r, o in contacts if FINGER_GEOM_MARK in r and o.startswith(OBJECT_PREFIX)}
+    else:
+        held = {geom_object(o) for r, o in contacts
+                if FINGER_GEOM_MARK in r and o.startswith(OBJECT_PREFIX)}
+        ok = {(r, o) for r, o in contacts if geom_object(o) in held}
+    return [f"{r}-{o}" for r, o in contacts if (r, o) not in ok]

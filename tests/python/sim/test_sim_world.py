@@ -8,7 +8,9 @@ import pytest
 from grasp_pipeline.robot import description as rm
 from grasp_pipeline.sim.config import load_sim_config
 from grasp_pipeline.sim.exceptions import GripperError, TrajectoryError
+from grasp_pipeline.robot.protocols import ContactAllowance
 from grasp_pipeline.sim.ground_truth import object_truths
+from grasp_pipeline.sim.object_geoms import geom_object
 from grasp_pipeline.exceptions import ConfigError
 
 
@@ -111,3 +113,57 @@ def test_sim_config_validation():
         load_sim_config(overrides={"timestep_s": 0.01})
     with pytest.raises(ConfigError):
         load_sim_config(overrides={"region_x_m": [0.6, 0.4]})
+
+
+def _contacts_one_by_one(world, include_objects: bool = True) -> list[tuple[str, str]]:
+    """Robot / non-robot contacts the plain way: every contact of the data, in order."""
+    out = []
+    for c in world.data.contact[:world.data.ncon]:
+        g1, g2 = int(c.geom1), int(c.geom2)
+        r1, r2 = world.is_robot_geom(g1), world.is_robot_geom(g2)
+        if r1 == r2:
+            continue
+        rg, og = (g1, g2) if r1 else (g2, g1)
+        if include_objects or not world.geom_name(og).startswith("obj_"):
+            out.append((world.geom_name(rg), world.geom_name(og)))
+    return out
+
+
+def _unexpected_one_by_one(world, allowance) -> list[str]:
+    """The contact monitor's rule on the plain list: fingers on objects (FINGERS), anything on
+    an object a finger touches (HELD_OBJECT), nothing (NONE) is expected."""
+    contacts = _contacts_one_by_one(world)
+    fingers_on = [(r, o) for r, o in contacts if "finger" in r and o.startswith("obj_")]
+    if allowance is ContactAllowance.FINGERS:
+        return [f"{r}-{o}" for r, o in contacts if (r, o) not in fingers_on]
+    if allowance is ContactAllowance.HELD_OBJECT:
+        held = {geom_object(o) for _, o in fingers_on}
+        return [f"{r}-{o}" for r, o in contacts if geom_object(o) not in held]
+    return [f"{r}-{o}" for r, o in contacts]
+
+
+def test_robot_contacts_match_a_contact_by_contact_check(make_world, motion):
+    """At every step of two descents with closed fingers — onto an object, then into the table
+    away from the objects — the same pairs in the same order as a plain loop (steps without
+    contact, with fingers on the object, with fingertips on the table), and the same
+    unexpected contacts for every allowance."""
+    world = make_world(camera=False)
+    world.set_gripper(0.0)
+    obj = object_truths(world)[0]
+    kinds = set()
+    for xy, z_low in ((obj.position_m[:2], obj.position_m[2]), ((0.40, 0.20), 0.200 - 0.005)):
+        above = motion.top_down(np.array([xy[0], xy[1], 0.32]), world.tcp_pose()[:3, 1])
+        low = above.copy()
+        low[2, 3] = z_low
+        for T, duration_s in ((above, 1.0), (low, 0.8)):
+            end = world.follow_trajectory(*motion.minjerk(world.reference()[0].copy(),
+                                                          motion.ik_tcp(T, world.q), duration_s)[:2])
+            while world.time_s < end + 0.1:
+                world.step()
+                for include in (True, False):
+                    got = world.robot_contacts(include_objects=include)
+                    assert got == _contacts_one_by_one(world, include), world.time_s
+                for allowance in ContactAllowance:
+                    assert world.unexpected_contacts(allowance) == _unexpected_one_by_one(world, allowance)
+                kinds.update(other.split("_")[0] for _, other in world.robot_contacts())
+    assert {"obj", "table"} <= kinds, f"the descents did not touch an object and the table: {kinds}"
