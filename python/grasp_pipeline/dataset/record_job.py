@@ -87,21 +87,13 @@ def run_record_job(job: dict) -> dict:
     """Run the job's episodes (``job``: index, episodes [(index, scene seed)], protocol,
     objects, keep_failed, depth, overrides, work_dir, recordings {index: .rrd path});
     never raises."""
+    from ..learning.episode_job import run_episode_job
     from ..learning.pick_env import PickPlaceEnv
     from .record_settings import record_settings
 
-    t0, cpu0 = time.perf_counter(), time.process_time()
-    rows, error, env = [], None, None
-    try:
+    def open_env():
         settings = record_settings(job["overrides"])
-        env = PickPlaceEnv(job["protocol"], job["objects"], job["depth"], settings=settings)
-        for index, seed in job["episodes"]:
-            rows.append(_episode_or_error(env, settings, index, seed, job))
-    except Exception as exc:
-        error = f"{type(exc).__name__}: {exc}"
-        log.error("job %d raised %s\n%s", job["index"], error, traceback.format_exc())
-    finally:
-        if env is not None:
-            env.close()
-    return {"index": job["index"], "episodes": rows, "error": error,
-            "timings": {"wall_s": time.perf_counter() - t0, "job_cpu_s": time.process_time() - cpu0}}
+        return PickPlaceEnv(job["protocol"], job["objects"], job["depth"], settings=settings), settings
+
+    return run_episode_job(job, open_env, lambda env, settings: lambda index, seed:
+                           _episode_or_error(env, settings, index, seed, job))

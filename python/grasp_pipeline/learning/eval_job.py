@@ -7,7 +7,6 @@ few episodes are played in a row (:func:`.rollout.play_episode`), each with its 
 from __future__ import annotations
 
 import logging
-import time
 import traceback
 from pathlib import Path
 
@@ -58,20 +57,15 @@ def run_eval_job(job: dict) -> dict:
     from ..dataset.record_settings import record_settings
     from .pick_env import PickPlaceEnv
 
-    t0, cpu0 = time.perf_counter(), time.process_time()
-    rows, error, env = [], None, None
-    try:
+    from .episode_job import run_episode_job
+
+    def open_env():
         settings = record_settings(job["overrides"])
-        env = PickPlaceEnv(job["protocol"], job["objects"], job["depth"], settings=settings,
-                           max_episode_steps=job["max_steps"])
+        return PickPlaceEnv(job["protocol"], job["objects"], job["depth"], settings=settings,
+                            max_episode_steps=job["max_steps"]), settings
+
+    def player(env, settings):
         policy = load_policy(job["policy"], job["device"], settings)
-        for index, seed in job["episodes"]:
-            rows.append(_episode(env, policy, index, seed, job))
-    except Exception as exc:
-        error = f"{type(exc).__name__}: {exc}"
-        log.error("job %d raised %s\n%s", job["index"], error, traceback.format_exc())
-    finally:
-        if env is not None:
-            env.close()
-    return {"index": job["index"], "episodes": rows, "error": error,
-            "timings": {"wall_s": time.perf_counter() - t0, "job_cpu_s": time.process_time() - cpu0}}
+        return lambda index, seed: _episode(env, policy, index, seed, job)
+
+    return run_episode_job(job, open_env, player)

@@ -16,7 +16,7 @@ Frames (all 4x4 homogeneous transforms, metres, right-handed):
   OpenCV/ROS optical convention). MuJoCo's own camera frame looks along -z with +y up; it is
   converted here (a 180 deg turn about x), so every consumer sees the optical convention.
 
-Limits (``PANDA_*``) are Franka's published figures (datasheet; DESIGN.md table).
+Limits (``PANDA_*``) are Franka's published figures (the robot's datasheet).
 """
 
 from __future__ import annotations
@@ -46,7 +46,7 @@ FINGER_PAD_GEOMS: tuple[str, str] = ("leftfinger_pad", "rightfinger_pad")
 TCP_SITE = "tcp"
 CAMERA_NAME = "wrist_depth_camera"
 
-# Franka Panda joint limits (Franka datasheet, see DESIGN.md / third_party_notes).
+# Franka Panda joint limits (Franka datasheet; see third_party_notes.md).
 PANDA_Q_MIN = np.array([-2.8973, -1.7628, -2.8973, -3.0718, -2.8973, -0.0175, -2.8973])
 PANDA_Q_MAX = np.array([2.8973, 1.7628, 2.8973, -0.0698, 2.8973, 3.7525, 2.8973])
 PANDA_QD_MAX = np.array([2.1750, 2.1750, 2.1750, 2.1750, 2.6100, 2.6100, 2.6100])

@@ -40,7 +40,7 @@ VISUAL_GEOM_GROUP = 2
 #: Group of a mesh object's collision parts when a visual mesh is drawn instead.
 COLLISION_ONLY_GROUP = 3
 #: Objects: torsional/rolling friction coefficients and contact dimension (4: torsional
-#: friction too, as in DESIGN.md's friction-grasp test).
+#: friction too; tests/python/sim/test_sim_grasp_hold.py: a grasp holds by friction).
 OBJECT_FRICTION_TORSION = 0.005
 OBJECT_FRICTION_ROLL = 0.0001
 OBJECT_CONDIM = 4
