@@ -176,7 +176,7 @@ inline py::array_t<double> to_numpy(const std::vector<double>& v) {
   return out;
 }
 
-/// (issue 12) An optional colour image for `rows` points: None -> an empty handle; else a
+/// An optional colour image for `rows` points: None -> an empty handle; else a
 /// C-contiguous uint8 array with rows x 3 values ((H, W, 3) or (N, 3)), read in place when it
 /// already is one (a copy otherwise). TypeError / ValueError name the argument.
 /// The colour rows of `obj` (C-contiguous uint8), or an empty array for None (callers test

@@ -138,7 +138,7 @@ class SceneFilterParams:
     SPEC 1.6 scene filter parameters
     """
     plane_lock: bool
-    #: (issue 12) organized segmentation and the range-dependent minimum object height
+    #: organized segmentation and the range-dependent minimum object height
     segment_organized: bool
     segment_smooth_radius_px: int
     segment_max_step_m: float
@@ -435,7 +435,7 @@ class ClusterInfo:
     """
     One connected component with >= min_points points
     """
-    #: (issue 12) the range-dependent minimum height (with the camera position)
+    #: the range-dependent minimum height (with the camera position)
     height_m: float
     range_m: float
     min_height_m: float
@@ -682,7 +682,7 @@ class SceneFilterResult:
     """
     Everything the scene filter computed for one frame
     """
-    #: (issue 12) segmented over the image; clusters refused by the minimum height
+    #: segmented over the image; clusters refused by the minimum height
     organized: bool
     num_too_low: int
     @property

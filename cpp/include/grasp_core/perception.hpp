@@ -43,7 +43,7 @@ class Perception {
   /// One frame in world coordinates: row i at xyz + i * row_stride (elements, >= 3).
   /// `camera_position` is the camera position at capture; `time_s` the capture time,
   /// which must not go backwards (std::invalid_argument otherwise).
-  /// (issue 12) `image_width` > 0: the frame is organized (row v * image_width + u is pixel
+  /// `image_width` > 0: the frame is organized (row v * image_width + u is pixel
   /// (u, v)); `rgb`: nullptr or n_rows x 3 bytes of colour, one per row (FrameContext).
   PerceptionFrame process(const float* xyz, std::size_t n_rows, std::size_t row_stride,
                           const Vec3& camera_position, double time_s, int image_width = 0,

@@ -96,8 +96,8 @@ struct SceneFilterResult {
   double ms_plane = 0.0;             ///< plane extraction + table choice + persistence [ms]
   double ms_cluster = 0.0;           ///< band split + clustering [ms]
   double ms_total = 0.0;             ///< whole process() call [ms]
-  bool organized = false;            ///< (issue 12) the candidates were segmented over the image
-  int num_too_low = 0;               ///< (issue 12) clusters refused by the range-dependent minimum height
+  bool organized = false;            ///< the candidates were segmented over the image
+  int num_too_low = 0;               ///< clusters refused by the range-dependent minimum height
 };
 
 /// Reusable whole-frame buffers of the scene filter (ours: frames of a constant size
