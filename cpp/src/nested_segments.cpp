@@ -1,4 +1,4 @@
-// (ours, issue 12) Joining a segment nested in another one. See nested_segments.hpp.
+// (ours) Joining a segment nested in another one. See nested_segments.hpp.
 #include "grasp_core/nested_segments.hpp"
 
 #include "grasp_core/union_find.hpp"

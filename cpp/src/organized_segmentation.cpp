@@ -1,4 +1,4 @@
-// (ours, issue 12) Organized segmentation of the candidates. See organized_segmentation.hpp.
+// (ours) Organized segmentation of the candidates. See organized_segmentation.hpp.
 #include "grasp_core/organized_segmentation.hpp"
 
 #include "grasp_core/nested_segments.hpp"

@@ -262,7 +262,7 @@ def run_perceive(path: str | os.PathLike, *, T_world_camera: Sequence | None = N
     t1 = time.perf_counter()
     # Files go through Euclidean clustering (SPEC 1.4), also organized ones: the organized
     # segmentation needs the true camera position, which a file's transform may not give, and
-    # it still cuts slivers off steep side faces in some frames (issue 12, open).
+    # it still cuts slivers off steep side faces in some frames.
     frame = session.process(pts_world, camera_position=T[:3, 3].copy(), time_s=0.0)
     if frame.outside_workspace:
         out(f"workspace: dropped {frame.outside_workspace} point(s) outside it")

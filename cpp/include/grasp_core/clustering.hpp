@@ -27,7 +27,7 @@ struct ClusterInfo {
   bool too_low = false;           ///< refused by the HeightRule (height_m < min_height_m)
 };
 
-/// (ours, issue 12) Range-dependent minimum object height: depth noise grows with range, so
+/// (ours) Range-dependent minimum object height: depth noise grows with range, so
 /// far away a patch of noise above the band looks like a low object. A component is an object
 /// only if the 90th percentile of its points' heights above `table` is >= sigmas x
 /// noise_at(range), range = distance from `camera` to the component's centroid.

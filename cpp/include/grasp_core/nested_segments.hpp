@@ -1,4 +1,4 @@
-// (ours, issue 12) Joining a segment nested in another one across a sloped surface.
+// (ours) Joining a segment nested in another one across a sloped surface.
 //
 // Seen straight from above, a bottle's cap and its shoulder, or a bowl's floor and its rim, are
 // separated in the image by a range step with no visible wall between them: the organized

@@ -1,4 +1,4 @@
-// (ours, issue 12) Organized segmentation of the object candidates of one RGB-D frame.
+// (ours) Organized segmentation of the object candidates of one RGB-D frame.
 //
 // Euclidean clustering with a radius of 15 mm (SPEC 1.4) merges objects closer than that, which
 // in packed and piled scenes is the common case. When the frame is organized (row v*W + u is

@@ -37,7 +37,7 @@ struct SceneFilterParams {
   /// counted (SceneFilterResult::num_out_of_range), like NaN rows. In (0, 1e9].
   double max_abs_coordinate_m = kDefaultMaxAbsCoordinate_m;
 
-  // (ours, issue 12) Organized segmentation of the candidates (organized_segmentation.hpp):
+  // (ours) Organized segmentation of the candidates (organized_segmentation.hpp):
   // used when the frame is organized (an image width is given), else Euclidean clustering.
   bool segment_organized = true;         ///< organized frames: image-neighbour segmentation
   int segment_smooth_radius_px = 2;      ///< half-width of the range smoothing window [px]
@@ -50,11 +50,11 @@ struct SceneFilterParams {
   double segment_nest_min_slope_deg = 25.0; ///< ... joins it where that one's surface around it slopes at least this much [deg]
   double segment_nest_max_slope_deg = 80.0; ///< ... and at most this much (steeper: a wall seen edge-on, a box's side) [deg]
   int segment_nest_rings_px = 6;          ///< one-pixel rings of the outer segment the slope is measured over [px]
-  // (ours, issue 12) Depth noise model of the sensor: sigma(r) = depth_noise_sigma_m * (r / ref)^exp.
+  // (ours) Depth noise model of the sensor: sigma(r) = depth_noise_sigma_m * (r / ref)^exp.
   double depth_noise_sigma_m = 0.002;    ///< depth noise sigma at depth_noise_ref_range_m [m]
   double depth_noise_ref_range_m = 0.4;  ///< [m]
   double depth_noise_exponent = 2.0;     ///< growth of the noise with range (2: structured light / ToF)
-  /// (ours, issue 12) A cluster is an object only if its robust height above the table (90th
+  /// (ours) A cluster is an object only if its robust height above the table (90th
   /// percentile of its points' heights) is >= this many sigma(range) at its centroid's range
   /// from the camera. 0 disables the rule (also when the camera position is unknown).
   double object_min_height_sigmas = 1.0;

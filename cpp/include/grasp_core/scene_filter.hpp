@@ -17,7 +17,7 @@
 
 namespace grasp_core {
 
-/// (ours, issue 12) What a frame may say besides its points. All optional.
+/// (ours) What a frame may say besides its points. All optional.
 struct FrameContext {
   /// > 0: the frame is organized, row v * image_width + u is pixel (u, v) (NaN rows where
   /// invalid), and the candidates are segmented over the image (organized_segmentation.hpp)

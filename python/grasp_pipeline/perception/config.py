@@ -119,7 +119,7 @@ class SceneFilterConfig:
     #: and counted (``num_out_of_range``) like NaN rows. Keep equal to the C++ default and
     #: config/scene_filter.yaml.
     max_abs_coordinate_m: float = 1000.0
-    #: (ours, issue 12) organized frames: segment the candidates over the image (range steps,
+    #: (ours) organized frames: segment the candidates over the image (range steps,
     #: colour boundaries) instead of Euclidean clustering; see organized_segmentation.hpp.
     segment_organized: bool = True
     segment_smooth_radius_px: int = 2
@@ -128,13 +128,13 @@ class SceneFilterConfig:
     segment_min_saturation: float = 0.25
     segment_min_brightness: float = 30.0
     segment_absorb_max_points: int = 400
-    #: (ours, issue 12) a segment nested in another one across a sloped surface joins it (a
+    #: (ours) a segment nested in another one across a sloped surface joins it (a
     #: bottle's cap and shoulder seen from above); see nested_segments.hpp.
     segment_nest_fraction: float = 0.9
     segment_nest_min_slope_deg: float = 25.0
     segment_nest_max_slope_deg: float = 80.0
     segment_nest_rings_px: int = 6
-    #: (ours, issue 12) depth noise model sigma(r) = sigma * (r / ref)^exponent, and the
+    #: (ours) depth noise model sigma(r) = sigma * (r / ref)^exponent, and the
     #: range-dependent minimum object height (in sigmas of it; 0 disables).
     depth_noise_sigma_m: float = 0.002
     depth_noise_ref_range_m: float = 0.4

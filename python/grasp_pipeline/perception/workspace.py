@@ -1,4 +1,4 @@
-"""The workspace of a camera session: where objects may be (issue 12, real captures).
+"""The workspace of a camera session: where objects may be (real captures).
 
 A real capture sees far beyond the table: floors, walls, furniture metres away, where the
 depth noise of a structured-light / ToF camera is several centimetres. Points outside the

@@ -1,4 +1,4 @@
-"""Segments the active scan should look at more closely before deciding (ours, issue 12).
+"""Segments the active scan should look at more closely before deciding (ours).
 
 A segment is *ambiguous* when its footprint could be more than one object or one the grasp
 cannot take as it is seen:

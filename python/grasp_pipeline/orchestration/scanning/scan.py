@@ -10,7 +10,7 @@ the camera above object i (SPEC 3 pose, planned on the perceived scene), waits f
 estimate produced after arrival, and logs every track's view angle. Camera frames are
 requested for the dwell only (frames on demand): the probe motions and RETURN render
 nothing. A planning or motion
-failure stops probing (the rest are skipped). Closer look (ours, issue 12): after a probe's
+failure stops probing (the rest are skipped). Closer look (ours): after a probe's
 NADIR estimate, a segment that may be several objects (:func:`~.ambiguity.ambiguity`: wider
 than the gripper in every direction, or a non-convex outline) is looked at again from
 ``closer_look_standoff_m`` above its top for ``dwell_frames`` frames; that view's segmentation
