@@ -45,7 +45,7 @@ from typing import Optional
 from ..app.run_command import sigterm_as_interrupt
 from ..exceptions import InputError
 from ..report.output_lock import output_claim
-from ..report.serialize import check_writable, check_writable_dir, write_json
+from ..report.serialize import check_writable, check_writable_dir
 from .clutter_round import clutter_settings, run_round
 from .grasp_bench import failures_by_stage, scene_seed, stats
 from .scheduler import JobSpec, run_jobs, worker_env
@@ -278,27 +278,11 @@ def run_clutter_benchmark(protocol: str = "packed", objects: str = "builtin", ro
 
 
 def _write_results(result: dict, out: Path, json_path) -> None:
-    """The JSON (written first: a signal while the plots are drawn cannot lose it), the plots,
-    ``summary.md``, then the JSON again with them. Ctrl-C / SIGTERM while writing: the JSON says
-    ``interrupted`` while writing (the plots or summary may be missing)."""
+    """The JSON, the plots and ``summary.md``, safe against a signal (:mod:`.results_files`)."""
     from .clutter_plots import write_plots, write_summary
+    from .results_files import write_results
 
-    rows = result.pop("round_rows")
-    result["round_rows"] = rows  # (the long part last)
-    try:
-        if json_path is not None:
-            write_json(json_path, result)
-        result["plots"] = {k: str(Path(v).relative_to(out)) for k, v in write_plots(result, out).items()}
-        result["summary"] = str(write_summary(result, out / "summary.md", json_path=json_path))
-        result["round_rows"] = result.pop("round_rows")
-        if json_path is not None:
-            write_json(json_path, result)
-    except KeyboardInterrupt:
-        result.update(status="interrupted", interrupted_while="writing the plots and summary")
-        result.setdefault("summary", None)
-        if json_path is not None:
-            write_json(json_path, result)
-        log.error("interrupted while writing the plots and summary; %s says so", json_path)
+    write_results(result, out, json_path, write_plots, write_summary, "round_rows")
 
 
 def headline(result: dict) -> str:

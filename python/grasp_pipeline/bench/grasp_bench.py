@@ -38,7 +38,7 @@ from typing import Any, Iterable, Optional
 
 from ..app.run_command import sigterm_as_interrupt
 from ..report.output_lock import output_claim
-from ..report.serialize import check_writable, check_writable_dir, write_json
+from ..report.serialize import check_writable, check_writable_dir
 from ..results import SceneRecord, SceneScanSummary
 from .scheduler import JobSpec, run_jobs, worker_env
 
@@ -630,25 +630,11 @@ def _status(records: list[dict], interrupted: bool) -> tuple[str, str]:
 
 
 def _write_results(result: dict, out: Path, json_path) -> None:
-    """The JSON (first: a signal while the plots are drawn cannot lose it), the plots,
-    ``summary.md``, then the JSON again with them; Ctrl-C / SIGTERM while writing: the JSON
-    says ``interrupted`` while writing (the plots or summary may be missing)."""
+    """The JSON, the plots and ``summary.md``, safe against a signal (:mod:`.results_files`)."""
     from .grasp_plots import write_plots, write_summary
+    from .results_files import write_results
 
-    try:
-        if json_path is not None:
-            write_json(json_path, result)
-        result["plots"] = {k: str(Path(v).relative_to(out)) for k, v in write_plots(result, out).items()}
-        result["summary"] = str(write_summary(result, out / "summary.md", json_path=json_path))
-        result["scene_rows"] = result.pop("scene_rows")
-        if json_path is not None:
-            write_json(json_path, result)
-    except KeyboardInterrupt:
-        result.update(status="interrupted", interrupted_while="writing the plots and summary")
-        result.setdefault("summary", None)
-        if json_path is not None:
-            write_json(json_path, result)
-        log.error("interrupted while writing the plots and summary; %s says so", json_path)
+    write_results(result, out, json_path, write_plots, write_summary, "scene_rows")
 
 
 def headline(result: dict) -> str:
