@@ -1,4 +1,4 @@
-// Bindings of SPEC 2 (object estimate, PCA box) and SPEC 3 (grasp pose, view quality).
+// Bindings of method.md §2 (object estimate, PCA box) and method.md §3 (grasp pose, view quality).
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -37,7 +37,7 @@ int checked_n_theta(const py::object& n_theta) {
 }  // namespace
 
 void bind_estimate(py::module_& m) {
-  py::class_<PcaBox>(m, "PcaBox", "PCA oriented box (SPEC 2.5; diagnostic only)")
+  py::class_<PcaBox>(m, "PcaBox", "PCA oriented box (method.md §2.5; diagnostic only)")
       .def_readonly("center", &PcaBox::center)
       .def_readonly("R", &PcaBox::R)
       .def_readonly("extents", &PcaBox::extents)
@@ -66,7 +66,7 @@ void bind_estimate(py::module_& m) {
   m.def("pca_tilt_deg", [](const PcaBox& b, const py::object& n) { return pca_tilt_deg(b, vec3(n, "n")); },
         py::arg("box"), py::arg("n"), "angle(PCA minor axis, n) [deg]");
 
-  py::class_<ObjectEstimate>(m, "ObjectEstimate", "Grasp-ready box of one object (SPEC 2)")
+  py::class_<ObjectEstimate>(m, "ObjectEstimate", "Grasp-ready box of one object (method.md §2)")
       .def_readonly("center", &ObjectEstimate::center)
       .def_readonly("R_box", &ObjectEstimate::R_box)
       .def_readonly("extents", &ObjectEstimate::extents)
@@ -115,7 +115,7 @@ void bind_estimate(py::module_& m) {
         },
         py::arg("points"), py::arg("plane"), py::arg("params"), py::arg("theta_prev") = py::none(),
         py::arg("band") = py::none(), py::arg("max_abs_coordinate_m") = kDefaultMaxAbsCoordinate_m,
-        "SPEC 2: estimate one cluster above the plane (rows with a NaN/Inf or a |coordinate| > "
+        "method.md §2: estimate one cluster above the plane (rows with a NaN/Inf or a |coordinate| > "
         "max_abs_coordinate_m are dropped). No estimate (failure text) for fewer than 3 points, "
         "a failed PCA, or a cluster whose top is below the plane.");
 
@@ -142,7 +142,7 @@ void bind_estimate(py::module_& m) {
   m.def("anisotropy_ratio", [](const std::vector<double>& ext) { return anisotropy_ratio(finite_list(ext, "ext")); },
         py::arg("ext"));
 
-  py::class_<DirectionRun>(m, "DirectionRun", "A run of candidate closing directions (SPEC 2.3)")
+  py::class_<DirectionRun>(m, "DirectionRun", "A run of candidate closing directions (method.md §2.3)")
       .def_readonly("first", &DirectionRun::first)
       .def_readonly("last", &DirectionRun::last)
       .def_readonly("indices", &DirectionRun::indices)
@@ -205,7 +205,7 @@ void bind_estimate(py::module_& m) {
         [](const py::object& obj, const Plane& plane, const Pose& ready, const Pose& cam_in_flange) {
           return camera_above_flange_target(vec3(obj, "object"), plane, ready, cam_in_flange);
         }, py::arg("object"), py::arg("plane"), py::arg("ready_camera_world"), py::arg("camera_in_flange"),
-        "Flange pose that puts the camera above the object (SPEC 3).");
+        "Flange pose that puts the camera above the object (method.md §3).");
 
   py::class_<ViewAssessment>(m, "ViewAssessment")
       .def_readonly("quality", &ViewAssessment::quality)

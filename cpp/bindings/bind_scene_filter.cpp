@@ -1,4 +1,4 @@
-// Bindings of SPEC 1: plane fit, extraction, table choice, clustering, persistence,
+// Bindings of method.md §1: plane fit, extraction, table choice, clustering, persistence,
 // and the per-frame SceneFilter.
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
@@ -47,7 +47,7 @@ PointsD as_points_d(const PointsView& v) {
 }  // namespace
 
 void bind_scene_filter(py::module_& m) {
-  py::class_<PlaneFit>(m, "PlaneFit", "Result of one RANSAC plane search (SPEC 1.1)")
+  py::class_<PlaneFit>(m, "PlaneFit", "Result of one RANSAC plane search (method.md §1.1)")
       .def_readonly("plane", &PlaneFit::plane)
       .def_readonly("ransac_plane", &PlaneFit::ransac_plane)
       .def_readonly("inliers", &PlaneFit::inliers)
@@ -66,7 +66,7 @@ void bind_scene_filter(py::module_& m) {
           return fit_plane_ransac(pts, params, s);
         },
         py::arg("points"), py::arg("params"), py::arg("seed") = 0,
-        "SPEC 1.1: one horizontal-constrained RANSAC plane (PCL sample consensus) with "
+        "method.md §1.1: one horizontal-constrained RANSAC plane (PCL sample consensus) with "
         "least-squares refinement and the post-refinement tilt re-check, on the rows that are "
         "finite and within params.max_abs_coordinate_m. None if no model.");
 
@@ -94,7 +94,7 @@ void bind_scene_filter(py::module_& m) {
           return extract_planes(as_points_d(v), params, s);
         },
         py::arg("points"), py::arg("params"), py::arg("seed") = 0,
-        "SPEC 1.2: sequential plane extraction on the rows that are finite and within "
+        "method.md §1.2: sequential plane extraction on the rows that are finite and within "
         "params.max_abs_coordinate_m; counts are on the whole cloud.");
 
   m.def("choose_table", [](const std::vector<PlaneCandidate>& planes, double dominance) {
@@ -102,7 +102,7 @@ void bind_scene_filter(py::module_& m) {
           return choose_table(planes, dominance);
         },
         py::arg("planes"), py::arg("dominance"),
-        "SPEC 1.3: index of the table (dominance, then height), -1 if none.");
+        "method.md §1.3: index of the table (dominance, then height), -1 if none.");
 
   py::class_<ClusterInfo>(m, "ClusterInfo", "One connected component with >= min_points points")
       .def_readonly("label", &ClusterInfo::label)
@@ -150,7 +150,7 @@ void bind_scene_filter(py::module_& m) {
         py::arg("points"), py::arg("eps_m"), py::arg("min_points"), py::arg("min_extent_m"),
         py::arg("max_extent_m"), py::arg("voxel_m") = 0.0,
         py::arg("max_abs_coordinate_m") = kDefaultMaxAbsCoordinate_m,
-        "SPEC 1.4: Euclidean clusters (PCL semantics) with extent filters; labels for every row "
+        "method.md §1.4: Euclidean clusters (PCL semantics) with extent filters; labels for every row "
         "(LABEL_INVALID for NaN/Inf rows and rows with a |coordinate| > max_abs_coordinate_m).");
 
   py::enum_<FrameEvent::Level>(m, "EventLevel")
@@ -174,7 +174,7 @@ void bind_scene_filter(py::module_& m) {
       .value("KEPT_NO_FIT", PlaneDecision::kKeptNoFit)
       .value("UNLOCKED_FIT", PlaneDecision::kUnlockedFit);
 
-  py::class_<PersistenceState>(m, "PersistenceState", "SPEC 1.5 lock state")
+  py::class_<PersistenceState>(m, "PersistenceState", "method.md §1.5 lock state")
       .def_readonly("lock", &PersistenceState::lock)
       .def_readonly("anchor", &PersistenceState::anchor)
       .def_readonly("hits", &PersistenceState::hits)
@@ -191,11 +191,11 @@ void bind_scene_filter(py::module_& m) {
       .def_readonly("events", &PersistenceUpdate::events);
 
   m.def("planes_close", &planes_close, py::arg("a"), py::arg("b"), py::arg("tol_deg"),
-        py::arg("tol_m"), "SPEC 1.5 closeness: normal angle <= tol_deg and height diff <= tol_m");
+        py::arg("tol_m"), "method.md §1.5 closeness: normal angle <= tol_deg and height diff <= tol_m");
 
   using GPersistence = Guarded<PlanePersistence>;
   py::class_<GPersistence>(m, "PlanePersistence",
-                           "SPEC 1.5 plane persistence state machine. Thread-safe: calls from "
+                           "method.md §1.5 plane persistence state machine. Thread-safe: calls from "
                            "several threads are serialised by a mutex (the GIL is released while "
                            "waiting); a view (SceneFilter.persistence) shares its owner's mutex.")
       .def(py::init([](const SceneFilterParams& p) { return GPersistence::make(p); }), py::arg("params"))
@@ -250,7 +250,7 @@ void bind_scene_filter(py::module_& m) {
 
   using GFilter = Guarded<SceneFilter>;
   py::class_<GFilter>(m, "SceneFilter",
-                      "The per-frame scene filter (SPEC 1); owns the plane lock. Thread-safe: "
+                      "The per-frame scene filter (method.md §1); owns the plane lock. Thread-safe: "
                       "calls from several threads are serialised by a mutex (the GIL is released "
                       "while waiting and while processing); a view (Perception.scene_filter) "
                       "shares its owner's mutex.")

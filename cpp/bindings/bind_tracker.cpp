@@ -1,4 +1,4 @@
-// Bindings of SPEC 4 (tracker) and the per-frame Perception entry point.
+// Bindings of method.md §4 (tracker) and the per-frame Perception entry point.
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -32,7 +32,7 @@ void bind_tracker(py::module_& m) {
 
   using GTracker = Guarded<Tracker>;
   py::class_<GTracker>(m, "Tracker",
-                       "SPEC 4 tracker. Thread-safe: calls from several threads are serialised by "
+                       "method.md §4 tracker. Thread-safe: calls from several threads are serialised by "
                        "a mutex (the GIL is released while waiting); a view (Perception.tracker) "
                        "shares its owner's mutex.")
       .def(py::init([](const ObbParams& p) { p.validate(); return GTracker::make(p); }), py::arg("params"))
@@ -84,7 +84,7 @@ void bind_tracker(py::module_& m) {
         },
         py::arg("clusters"), py::arg("plane"), py::arg("params"), py::arg("tracker"),
         py::arg("band") = py::none(), py::arg("max_abs_coordinate_m") = kDefaultMaxAbsCoordinate_m,
-        "SPEC 4 two-pass estimation of one frame's clusters (rows with a NaN/Inf or a "
+        "method.md §4 two-pass estimation of one frame's clusters (rows with a NaN/Inf or a "
         "|coordinate| > max_abs_coordinate_m are dropped).");
 }
 

@@ -96,7 +96,7 @@ void bind_types(py::module_& m) {
 
   // Setters check the Python value and name the field (TypeError for a wrong type,
   // ValueError for an int beyond the C++ type); ranges are checked by validate().
-  py::class_<SceneFilterParams> sfp(m, "SceneFilterParams", "SPEC 1.6 scene filter parameters");
+  py::class_<SceneFilterParams> sfp(m, "SceneFilterParams", "method.md §1.6 scene filter parameters");
   sfp.def(py::init<>());
   float_field(sfp, "plane_dist_thresh", &SceneFilterParams::plane_dist_thresh);
   float_field(sfp, "plane_max_tilt_deg", &SceneFilterParams::plane_max_tilt_deg);
@@ -136,7 +136,7 @@ void bind_types(py::module_& m) {
   sfp.def("validate", &SceneFilterParams::validate,
           "Raise ValueError naming the first invalid parameter.");
 
-  py::class_<ObbParams> obb(m, "ObbParams", "SPEC 2.7 object estimate / guard / tracker parameters");
+  py::class_<ObbParams> obb(m, "ObbParams", "method.md §2.7 object estimate / guard / tracker parameters");
   obb.def(py::init<>());
   float_field(obb, "depth_noise_sigma", &ObbParams::depth_noise_sigma);
   float_field(obb, "top_slice_sigmas", &ObbParams::top_slice_sigmas);

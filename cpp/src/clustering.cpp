@@ -1,4 +1,4 @@
-// SPEC 1.4 — Euclidean clustering (PCL semantics) with an exact grid fast path.
+// method.md §1.4 — Euclidean clustering (PCL semantics) with an exact grid fast path.
 // See clustering.hpp for the algorithm and the labelling rules.
 #include "grasp_core/clustering.hpp"
 

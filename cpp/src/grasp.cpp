@@ -1,4 +1,4 @@
-// Grasp pose math and view quality (SPEC 3). See grasp.hpp.
+// Grasp pose math and view quality (method.md §3). See grasp.hpp.
 #include "grasp_core/grasp.hpp"
 
 #include <cmath>

@@ -56,7 +56,7 @@ Segments collect(const float* xyz, const int* cand_rows, std::size_t n_cand, int
 }
 
 /// Joins `inner` into `outer` unless their union's 3-D box diagonal exceeds `max_extent_m`
-/// (SPEC 1.4's cluster extent rule: a join must not turn an object into a rejected cluster);
+/// (method.md §1.4's cluster extent rule: a join must not turn an object into a rejected cluster);
 /// joins made earlier in the pass count. Returns whether it joined.
 bool join_within_extent(Segments& s, std::vector<int>& parent, int inner, int outer, double max_extent_m) {
   const auto a = static_cast<std::size_t>(find_root(parent, inner));

@@ -1,4 +1,4 @@
-// Object estimate of one cluster (SPEC 2.1-2.4, 2.6). See object_estimate.hpp.
+// Object estimate of one cluster (method.md §2.1-2.4, 2.6). See object_estimate.hpp.
 #include "grasp_core/object_estimate.hpp"
 
 #include <algorithm>
@@ -454,7 +454,7 @@ EstimateResult finish_estimate(const PreparedEstimate& prep, const ObbParams& p,
 
   // 2.6 guards.
   // Sides are visible when points reach more than side_seen_sigmas * sigma below the top
-  // slice (ours). SPEC's literal "max d - min d > 3 sigma" compares the range of thousands
+  // slice (ours). The method's literal "max d - min d > 3 sigma" compares the range of thousands
   // of noisy samples (about 7 sigma for a flat top alone at N ~ 2500) with 3 sigma, so
   // every noisy top-only view would count as "sides seen" and a resting cube seen from
   // directly above would be refused as floating. Measuring from the slice-median top and

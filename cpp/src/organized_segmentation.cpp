@@ -56,7 +56,7 @@ void smooth_ranges(const int* cand_rows, std::size_t n_cand, int width, int heig
 
 /// Segments of fewer than segment_absorb_max_points points (slivers of a steep side face,
 /// cut off by its large range steps) join the large segment they touch most in the image,
-/// counting only neighbour pairs within cluster_eps in 3-D (the Euclidean rule of SPEC 1.4,
+/// counting only neighbour pairs within cluster_eps in 3-D (the Euclidean rule of method.md §1.4,
 /// so nothing is joined that Euclidean clustering would have kept apart).
 void absorb_small_segments(const float* xyz, const int* cand_rows, std::size_t n_cand, int width,
                            int height, const SceneFilterParams& p, OrganizedWorkspace& ws) {

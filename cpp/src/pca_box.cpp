@@ -1,4 +1,4 @@
-// PCA oriented bounding box (SPEC 2.5).
+// PCA oriented bounding box (method.md §2.5).
 #include "grasp_core/pca_box.hpp"
 
 #include <Eigen/Eigenvalues>

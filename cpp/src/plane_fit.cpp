@@ -1,4 +1,4 @@
-// SPEC 1.1 — see plane_fit.hpp for how PCL's RANSAC is configured to honour the SPEC.
+// method.md §1.1 — see plane_fit.hpp for how PCL's RANSAC is configured to honour the method.
 #include "grasp_core/plane_fit.hpp"
 #include "simd_clones.hpp"
 
@@ -43,7 +43,7 @@ GRASP_SIMD_CLONES unsigned int count_within(const float* __restrict x, const flo
 ///    rng_alg_ is the protected generator drawIndexSample uses);
 ///  - countWithinDistance (the RANSAC scoring loop, ~all of the run time) is a tight loop
 ///    compiled with our flags. The Debian build of PCL's scalar loop costs ~11 ns/point on
-///    this machine class (a store-forwarding stall), ~10x the budget of SPEC 1.6's
+///    this machine class (a store-forwarding stall), ~10x the budget of method.md §1.6's
 ///    200 iterations x 4000 points x 3 planes per frame. Same test as PCL:
 ///    model valid (tilt) and |a x + b y + c z + d| < threshold, float distances.
 class SeededPerpendicularPlane : public pcl::SampleConsensusModelPerpendicularPlane<pcl::PointXYZ> {
@@ -209,7 +209,7 @@ std::optional<PlaneFit> fit_cloud(const Cloud::ConstPtr& cloud, const SceneFilte
   if (!std::isfinite(norm) || norm <= 0.0 || !std::isfinite(c)) return std::nullopt;
   n /= norm;
   c /= norm;
-  if (n.z() < 0.0) {  // SPEC 0/1.1: orient n_z >= 0
+  if (n.z() < 0.0) {  // method.md §0/1.1: orient n_z >= 0
     n = -n;
     c = -c;
   }

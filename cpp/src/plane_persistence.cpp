@@ -1,5 +1,5 @@
-// SPEC 1.5 — table-plane persistence. See plane_persistence.hpp for the choices made
-// where the SPEC is silent.
+// method.md §1.5 — table-plane persistence. See plane_persistence.hpp for the choices made
+// where the method is silent.
 #include "grasp_core/plane_persistence.hpp"
 
 #include <algorithm>

@@ -1,4 +1,4 @@
-// SPEC 1.2–1.5 — the per-frame scene filter. See scene_filter.hpp.
+// method.md §1.2–1.5 — the per-frame scene filter. See scene_filter.hpp.
 //
 // Data path per frame (no PCL cloud of the whole frame is ever built; the whole-frame
 // arrays live in the filter's SceneFilterWorkspace and are reused from frame to frame):
@@ -77,7 +77,7 @@ float float_at_most(double bound) {
   return f;
 }
 
-/// Row validity of SPEC 1 (finite, every |coordinate| <= bound), checked on the input values:
+/// Row validity of method.md §1 (finite, every |coordinate| <= bound), checked on the input values:
 /// `in` = valid, `finite` = all three finite (a finite row that is not valid is out of range).
 /// Float input is checked in float (exact, see float_at_most), double input in double (a
 /// double beyond float range is out of range, not non-finite).
@@ -247,7 +247,7 @@ GRASP_SIMD_CLONES int mark_inliers(const Packed& pk, const PlaneF& pf, float tau
   return static_cast<int>(count);
 }
 
-/// SPEC 1.2 on packed finite points (buffers: ws.remainder, ws.inlier).
+/// method.md §1.2 on packed finite points (buffers: ws.remainder, ws.inlier).
 std::vector<PlaneCandidate> extract_packed(const Packed& pk, const SceneFilterParams& params,
                                            std::uint64_t seed, SceneFilterWorkspace& ws) {
   std::vector<PlaneCandidate> planes;
@@ -288,7 +288,7 @@ std::vector<PlaneCandidate> extract_packed(const Packed& pk, const SceneFilterPa
     cand.subsample_inliers = fit->inliers;
     cand.subsample_size = static_cast<int>(m);
     cand.refined = fit->refined;
-    // SPEC `count`: on the whole frame cloud, never on the shrinking remainder.
+    // method.md §1.2 `count`: on the whole frame cloud, never on the shrinking remainder.
     cand.count_whole = mark_inliers(pk, PlaneF(fit->plane), tau, inlier);
     // Drop the plane's inliers from the whole remainder (not only from the subsample).
     // (Branch-free compaction: inliers are interleaved with the rest at random.)
@@ -388,7 +388,7 @@ GRASP_SIMD_CLONES unsigned int count_above(const float* __restrict x, const floa
   return above;
 }
 
-/// Band split (SPEC 1.4): the valid points strictly above the band w.r.t. `table`, packed
+/// Band split (method.md §1.4): the valid points strictly above the band w.r.t. `table`, packed
 /// interleaved into ws.cand_xyz with their input rows in ws.cand_rows, in input order.
 /// Returns their number. Object points are a few percent of a frame: each block is first
 /// counted by a vectorised loop and only blocks with candidates are compacted.

@@ -1,4 +1,4 @@
-// Object tracker across frames (SPEC 4). See tracker.hpp.
+// Object tracker across frames (method.md §4). See tracker.hpp.
 #include "grasp_core/tracker.hpp"
 
 #include <algorithm>

@@ -135,7 +135,7 @@ class Pose:
         ...
 class SceneFilterParams:
     """
-    SPEC 1.6 scene filter parameters
+    method.md §1.6 scene filter parameters
     """
     plane_lock: bool
     #: organized segmentation and the range-dependent minimum object height
@@ -278,7 +278,7 @@ class SceneFilterParams:
         ...
 class ObbParams:
     """
-    SPEC 2.7 object estimate / guard / tracker parameters
+    method.md §2.7 object estimate / guard / tracker parameters
     """
     def __init__(self) -> None:
         ...
@@ -390,7 +390,7 @@ class ObbParams:
         ...
 class PlaneFit:
     """
-    Result of one RANSAC plane search (SPEC 1.1)
+    Result of one RANSAC plane search (method.md §1.1)
     """
     @property
     def inliers(self) -> int:
@@ -615,7 +615,7 @@ class PlaneDecision:
         ...
 class PersistenceState:
     """
-    SPEC 1.5 lock state
+    method.md §1.5 lock state
     """
     @property
     def anchor(self) -> Plane | None:
@@ -640,7 +640,7 @@ class PersistenceState:
         ...
 class PersistenceUpdate:
     """
-    Result of feeding one frame's fit to PlanePersistence.update (SPEC 1.5)
+    Result of feeding one frame's fit to PlanePersistence.update (method.md §1.5)
     """
     @property
     def decision(self) -> PlaneDecision:
@@ -659,7 +659,7 @@ class PersistenceUpdate:
         ...
 class PlanePersistence:
     """
-    SPEC 1.5 plane persistence state machine. Thread-safe: calls from several threads are serialised by a mutex (the GIL is released while waiting); a view (SceneFilter.persistence) shares its owner's mutex.
+    method.md §1.5 plane persistence state machine. Thread-safe: calls from several threads are serialised by a mutex (the GIL is released while waiting); a view (SceneFilter.persistence) shares its owner's mutex.
     """
     def __init__(self, params: SceneFilterParams) -> None:
         ...
@@ -765,7 +765,7 @@ class SceneFilterResult:
         ...
 class SceneFilter:
     """
-    The per-frame scene filter (SPEC 1); owns the plane lock. Thread-safe: calls from several threads are serialised by a mutex (the GIL is released while waiting and while processing); a view (Perception.scene_filter) shares its owner's mutex.
+    The per-frame scene filter (method.md §1); owns the plane lock. Thread-safe: calls from several threads are serialised by a mutex (the GIL is released while waiting and while processing); a view (Perception.scene_filter) shares its owner's mutex.
     """
     def __init__(self, params: SceneFilterParams) -> None:
         ...
@@ -786,7 +786,7 @@ class SceneFilter:
         ...
 class PcaBox:
     """
-    PCA oriented box (SPEC 2.5; diagnostic only)
+    PCA oriented box (method.md §2.5; diagnostic only)
     """
     @property
     def R(self) -> Mat3:
@@ -802,7 +802,7 @@ class PcaBox:
         ...
 class ObjectEstimate:
     """
-    Grasp-ready box of one object (SPEC 2)
+    Grasp-ready box of one object (method.md §2)
     """
     def __repr__(self) -> str:
         ...
@@ -881,7 +881,7 @@ class EstimateResult:
         ...
 class DirectionRun:
     """
-    A run of candidate closing directions (SPEC 2.3)
+    A run of candidate closing directions (method.md §2.3)
     """
     @property
     def first(self) -> int:
@@ -900,7 +900,7 @@ class DirectionRun:
         ...
 class DirectionChoice:
     """
-    The chosen closing direction (SPEC 2.3) and every run considered; chosen indexes runs (-1 if none)
+    The chosen closing direction (method.md §2.3) and every run considered; chosen indexes runs (-1 if none)
     """
     @property
     def chosen(self) -> int:
@@ -934,7 +934,7 @@ class BestGrasp:
         ...
 class ViewAssessment:
     """
-    View quality of one observation (SPEC 3); angle_deg = angle(object - camera, -n), NaN when coincident
+    View quality of one observation (method.md §3); angle_deg = angle(object - camera, -n), NaN when coincident
     """
     @property
     def angle_deg(self) -> float:
@@ -1046,7 +1046,7 @@ class StateChecker:
         ...
 class Tracker:
     """
-    SPEC 4 tracker. Thread-safe: calls from several threads are serialised by a mutex (the GIL is released while waiting); a view (Perception.tracker) shares its owner's mutex.
+    method.md §4 tracker. Thread-safe: calls from several threads are serialised by a mutex (the GIL is released while waiting); a view (Perception.tracker) shares its owner's mutex.
     """
     @staticmethod
     def gate_for(centres: Sequence[Vec3Like], frac: float) -> float | None:
@@ -1318,7 +1318,7 @@ def best_grasp_from_estimate(estimate: ObjectEstimate, plane: Plane) -> BestGras
     ...
 def camera_above_flange_target(object: Vec3Like, plane: Plane, ready_camera_world: Pose, camera_in_flange: Pose) -> Pose:
     """
-    Flange pose that puts the camera above the object (SPEC 3).
+    Flange pose that puts the camera above the object (method.md §3).
     """
 def camera_above_pose(object: Vec3Like, plane: Plane, ready_camera_world: Pose) -> Pose:
     ...
@@ -1326,7 +1326,7 @@ def choose_direction(ext: Sequence[float], width_tol_m: float, theta_prev: float
     ...
 def choose_table(planes: Sequence[PlaneCandidate], dominance: float) -> int:
     """
-    SPEC 1.3: index of the table (dominance, then height), -1 if none.
+    method.md §1.3: index of the table (dominance, then height), -1 if none.
     """
 def circular_median_mod_pi(angles_rad: Sequence[float], reference_rad: float) -> float:
     ...
@@ -1334,25 +1334,25 @@ def direction_runs(ext: Sequence[float], width_tol_m: float) -> list[DirectionRu
     ...
 def estimate_object(points: Points, plane: Plane, params: ObbParams, theta_prev: float | None = None, band: float | None = None, max_abs_coordinate_m: float = 1000.0) -> EstimateResult:
     """
-    SPEC 2: estimate one cluster above the plane (rows with a NaN/Inf or a |coordinate| > max_abs_coordinate_m are dropped). No estimate (failure text) for fewer than 3 points, a failed PCA, or a cluster whose top is below the plane.
+    method.md §2: estimate one cluster above the plane (rows with a NaN/Inf or a |coordinate| > max_abs_coordinate_m are dropped). No estimate (failure text) for fewer than 3 points, a failed PCA, or a cluster whose top is below the plane.
     """
 def estimate_with_priors(clusters: Sequence[Points], plane: Plane, params: ObbParams, tracker: Tracker, band: float | None = None, max_abs_coordinate_m: float = 1000.0) -> list[EstimateResult]:
     """
-    SPEC 4 two-pass estimation of one frame's clusters (rows with a NaN/Inf or a |coordinate| > max_abs_coordinate_m are dropped).
+    method.md §4 two-pass estimation of one frame's clusters (rows with a NaN/Inf or a |coordinate| > max_abs_coordinate_m are dropped).
     """
 def euclidean_clusters(points: Points, eps_m: float, min_points: int, min_extent_m: float, max_extent_m: float, voxel_m: float = 0.0, max_abs_coordinate_m: float = 1000.0) -> ClusterResult:
     """
-    SPEC 1.4: Euclidean clusters (PCL semantics) with extent filters; labels for every row (LABEL_INVALID for NaN/Inf rows and rows with a |coordinate| > max_abs_coordinate_m).
+    method.md §1.4: Euclidean clusters (PCL semantics) with extent filters; labels for every row (LABEL_INVALID for NaN/Inf rows and rows with a |coordinate| > max_abs_coordinate_m).
     """
 def extent_along(a: Sequence[float], b: Sequence[float], theta_rad: float) -> float:
     ...
 def extract_planes(points: Points, params: SceneFilterParams, seed: int = 0) -> list[PlaneCandidate]:
     """
-    SPEC 1.2: sequential plane extraction on the rows that are finite and within params.max_abs_coordinate_m; counts are on the whole cloud.
+    method.md §1.2: sequential plane extraction on the rows that are finite and within params.max_abs_coordinate_m; counts are on the whole cloud.
     """
 def fit_plane_ransac(points: Points, params: SceneFilterParams, seed: int = 0) -> PlaneFit | None:
     """
-    SPEC 1.1: one horizontal-constrained RANSAC plane (PCL sample consensus) with least-squares refinement and the post-refinement tilt re-check, on the rows that are finite and within params.max_abs_coordinate_m. None if no model.
+    method.md §1.1: one horizontal-constrained RANSAC plane (PCL sample consensus) with least-squares refinement and the post-refinement tilt re-check, on the rows that are finite and within params.max_abs_coordinate_m. None if no model.
     """
 def in_plane_basis(n: Vec3Like) -> tuple[Vec3, Vec3]:
     """
@@ -1376,7 +1376,7 @@ def pca_tilt_deg(box: PcaBox, n: Vec3Like) -> float:
     """
 def planes_close(a: Plane, b: Plane, tol_deg: float, tol_m: float) -> bool:
     """
-    SPEC 1.5 closeness: normal angle <= tol_deg and height diff <= tol_m
+    method.md §1.5 closeness: normal angle <= tol_deg and height diff <= tol_m
     """
 def scan_angle_rad(t: int, n_theta: int) -> float:
     ...

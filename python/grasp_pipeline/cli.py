@@ -322,7 +322,7 @@ def _add_run(sub: argparse._SubParsersAction) -> None:
                     "nearest first) and place it in the tray. Writes a report JSON, PNG "
                     "snapshots and an MP4.")
     p.add_argument("--scene", choices=["reference", "random", "sparse", "packed", "pile"], default="reference",
-                   help="reference (SPEC 8), random/sparse (primitives, 12 cm apart), packed or pile "
+                   help="reference (method.md §8), random/sparse (primitives, 12 cm apart), packed or pile "
                         "(VGN/GIGA clutter protocols of --objects)")
     p.add_argument("--objects", default="builtin", metavar="builtin|DIR",
                    help="object set of packed/pile scenes: the built-in set or a folder of "
@@ -348,7 +348,7 @@ def build_parser() -> argparse.ArgumentParser:
                         choices=LOG_LEVELS, help="logging level (also accepted after the sub-command)")
     sub = parser.add_subparsers(dest="command", required=True)
     demo = sub.add_parser("demo", help="run the default headless demo (reference scene, out/demo)",
-                          description="The full run on the reference scene (SPEC 8): rough view, "
+                          description="The full run on the reference scene (method.md §8): rough view, "
                                       "scan, all three objects into the tray. Same options as run.")
     demo.set_defaults(seed=0)
     _add_pick_options(demo, "out/demo")

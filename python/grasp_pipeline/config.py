@@ -1,7 +1,7 @@
 """Typed parameter sets loaded from YAML (``config/<name>.yaml``).
 
 Every parameter set is a frozen dataclass whose field names are the YAML keys
-(SPEC's names where SPEC has a table). ``load_config(cls, "scene_filter")`` reads the
+(docs/method.md's names where it has a table). ``load_config(cls, "scene_filter")`` reads the
 default file shipped with the package, then an optional user file, then
 ``name=value`` overrides; unknown names and wrong types raise :class:`ConfigError`.
 

@@ -15,7 +15,7 @@ camera frame (or any frame) given by the file; the user says where ``world`` is:
   camera).
 
 Exactly one frame is processed with :class:`~grasp_pipeline.perception.PerceptionSession`:
-the plane persistence locks on the first fit (SPEC 1.5: "No lock yet: first fit becomes
+the plane persistence locks on the first fit (method.md §1.5: "No lock yet: first fit becomes
 lock"), so one ``process`` call yields the plane and every object's estimate. The camera
 position used for the view quality (NADIR / OBLIQUE) is the translation of T_world_camera.
 
@@ -260,7 +260,7 @@ def run_perceive(path: str | os.PathLike, *, T_world_camera: Sequence | None = N
     pts_world = (cloud.points.astype(np.float64) @ T[:3, :3].T + T[:3, 3]).astype(np.float32)
     session = PerceptionSession(settings.scene_filter, settings.obb, settings.workspace)
     t1 = time.perf_counter()
-    # Files go through Euclidean clustering (SPEC 1.4), also organized ones: the organized
+    # Files go through Euclidean clustering (method.md §1.4), also organized ones: the organized
     # segmentation needs the true camera position, which a file's transform may not give, and
     # it still cuts slivers off steep side faces in some frames.
     frame = session.process(pts_world, camera_position=T[:3, 3].copy(), time_s=0.0)

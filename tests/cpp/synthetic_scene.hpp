@@ -169,7 +169,7 @@ class SceneBuilder {
   std::vector<int> tags_;
 };
 
-/// Reference tabletop of SPEC 8: table top at z = 0.200 m, floor at z = 0, a wall at
+/// Reference tabletop of method.md §8: table top at z = 0.200 m, floor at z = 0, a wall at
 /// x = 0.85 m below the table height (e.g. a cabinet front seen past the table edge), a blue 5 cm cube near (0.56, -0.03), a red one near (0.46, -0.10) and a green
 /// cylinder (r 2.5 cm, h 5 cm) near (0.52, 0.09); 2 mm depth noise. Sized like a 640 x 480
 /// depth frame: padded with invalid rows to exactly 307200 rows.

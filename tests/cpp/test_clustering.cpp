@@ -1,4 +1,4 @@
-// SPEC 1.4 — Euclidean clustering with extent filters (grasp_core::euclidean_clusters).
+// method.md §1.4 — Euclidean clustering with extent filters (grasp_core::euclidean_clusters).
 #include <gtest/gtest.h>
 
 #include "grasp_core/clustering.hpp"

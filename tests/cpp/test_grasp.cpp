@@ -1,4 +1,4 @@
-// SPEC 3: top-down grasp, BestGrasp convention, camera-above target, view quality.
+// method.md §3: top-down grasp, BestGrasp convention, camera-above target, view quality.
 #include <gtest/gtest.h>
 
 #include <cmath>

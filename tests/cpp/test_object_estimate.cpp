@@ -1,4 +1,4 @@
-// SPEC 2.1-2.4 and 2.6: decomposition, width scan, direction choice, box, height, guards.
+// method.md §2.1-2.4 and 2.6: decomposition, width scan, direction choice, box, height, guards.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,7 +14,7 @@ using namespace grasp_test;
 
 namespace {
 
-constexpr double kBand = 0.01;  // SPEC 1.6 default band [m]
+constexpr double kBand = 0.01;  // method.md §1.6 default band [m]
 
 bool has_note(const std::vector<std::string>& notes, const std::string& part) {
   return std::any_of(notes.begin(), notes.end(),

@@ -1,4 +1,4 @@
-// SPEC 2.5: PCA OBB (diagnostic) and its failure rules.
+// method.md §2.5: PCA OBB (diagnostic) and its failure rules.
 #include <gtest/gtest.h>
 
 #include <cmath>

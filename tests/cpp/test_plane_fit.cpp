@@ -1,4 +1,4 @@
-// SPEC 1.1 — one horizontal-constrained RANSAC plane (grasp_core::fit_plane_ransac).
+// method.md §1.1 — one horizontal-constrained RANSAC plane (grasp_core::fit_plane_ransac).
 #include <gtest/gtest.h>
 
 #include "grasp_core/plane_fit.hpp"
@@ -102,7 +102,7 @@ TEST(PlaneFit, CollinearSamplesAreDiscarded) {
 }
 
 TEST(PlaneFit, RefinedTableHeightUnderTwoMillimetreNoise) {
-  // SPEC 1.1 measured 0.17 mm; we require < 0.5 mm on every seed.
+  // method.md §1.1 measured 0.17 mm; we require < 0.5 mm on every seed.
   const SceneFilterParams params;
   double worst = 0.0;
   for (std::uint32_t seed = 1; seed <= 10; ++seed) {

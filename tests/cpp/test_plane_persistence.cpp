@@ -1,4 +1,4 @@
-// SPEC 1.5 — plane persistence (grasp_core::PlanePersistence).
+// method.md §1.5 — plane persistence (grasp_core::PlanePersistence).
 #include <gtest/gtest.h>
 
 #include "grasp_core/plane_persistence.hpp"

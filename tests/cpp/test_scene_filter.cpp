@@ -1,4 +1,4 @@
-// SPEC 1.2-1.4 (+ the per-frame use of 1.5) — extraction, table choice, band split,
+// method.md §1.2-1.4 (+ the per-frame use of 1.5) — extraction, table choice, band split,
 // labelling (grasp_core::extract_planes, choose_table, SceneFilter).
 #include <gtest/gtest.h>
 
@@ -26,7 +26,7 @@ int whole_count(const PointsD& pts, const Plane& plane, double tau) {
   return n;
 }
 
-/// SPEC 1.3 measured situation: table 20072 inliers, floor 7275, an object-top pseudo-plane
+/// method.md §1.3 measured situation: table 20072 inliers, floor 7275, an object-top pseudo-plane
 /// of 2110 points tilted 9 deg (inside the 10 deg limit) 5 cm above the table, plus the
 /// objects' vertical sides.
 SceneBuilder dominance_scene(std::uint32_t seed) {
@@ -66,7 +66,7 @@ std::map<int, std::set<int>> labels_by_tag(const SceneBuilder& b, const SceneFil
 
 TEST(ChooseTable, DominanceThenHeight) {
   EXPECT_EQ(choose_table({}, 0.7), -1);
-  // SPEC 1.3 measured counts: the highest plane is a pseudo-plane; dominance picks the table.
+  // method.md §1.3 measured counts: the highest plane is a pseudo-plane; dominance picks the table.
   const std::vector<PlaneCandidate> planes = {cand(0.20, 20072), cand(0.0, 7275), cand(0.25, 2110)};
   EXPECT_EQ(choose_table(planes, 0.70), 0);
   // Exactly at the threshold qualifies (>=); just below does not.
@@ -91,12 +91,12 @@ TEST(ExtractPlanes, DominancePicksTheTableNotTheHigherPseudoPlane) {
   EXPECT_GT(planes[2].plane.height_m(), 0.23);
   EXPECT_NEAR(planes[2].plane.tilt_deg(), 9.0, 1.5);
   EXPECT_LE(planes[2].plane.tilt_deg(), params.plane_max_tilt_deg);
-  // SPEC's measured counts: table and floor within 1 %, the pseudo-plane 2110 + side points.
+  // The measured counts of method.md §1.3: table and floor within 1 %, the pseudo-plane 2110 + side points.
   EXPECT_NEAR(planes[0].count_whole, 20072, 200);
   EXPECT_NEAR(planes[1].count_whole, 7275, 73);
   EXPECT_GE(planes[2].count_whole, 2000);
   EXPECT_LE(planes[2].count_whole, 2800);
-  // The margins around rho = 0.70 (SPEC: 2.76 and 9.5; here at least 2.7 and 7).
+  // The margins around rho = 0.70 (method.md §1.3: 2.76 and 9.5; here at least 2.7 and 7).
   EXPECT_GT(static_cast<double>(planes[0].count_whole) / planes[1].count_whole, 2.7);
   EXPECT_GT(static_cast<double>(planes[0].count_whole) / planes[2].count_whole, 7.0);
 

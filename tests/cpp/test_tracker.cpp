@@ -1,4 +1,4 @@
-// SPEC 4: gate, association, monotone quality, windows, retirement, two-pass prior.
+// method.md §4: gate, association, monotone quality, windows, retirement, two-pass prior.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -242,7 +242,7 @@ TEST(TwoPass, NewObjectDoesNotBorrowANeighboursTheta) {
   EXPECT_FALSE(res[2].failure.empty());
 }
 
-/// SPEC 4's flip: a square whose first-pass theta alternates between its two runs.
+/// method.md §4's flip: a square whose first-pass theta alternates between its two runs.
 /// Yaw +1 deg -> runs {1, 91} -> 1 deg; yaw -1 deg -> runs {179, 89} -> 89 deg.
 TEST(TwoPass, AlternatingSquareKeepsTheTrueSideNotTheDiagonal) {
   const ObbParams p;

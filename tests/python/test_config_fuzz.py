@@ -31,11 +31,11 @@ FUZZ = settings(max_examples=EXAMPLES, deadline=2000, derandomize=not os.environ
 
 ALL = sorted(SECTIONS)
 NAMES = sorted({f.name for s in ALL for f in dataclasses.fields(section_class(s))})
-SPECIAL_NUMBERS = [0, -0.0, 1e-320, 5e-324, 1e308, -1e308, 1.7976931348623157e308, float("nan"),
+EDGE_NUMBERS = [0, -0.0, 1e-320, 5e-324, 1e308, -1e308, 1.7976931348623157e308, float("nan"),
                    float("inf"), -float("inf"), 2**63, 2**64, -(2**63) - 1, 10**30, 0.5, 1, -1, 3]
 YAML_TEXT = st.text(alphabet=string.printable + "é中\u2028", max_size=40)
 
-scalars = st.one_of(st.sampled_from(SPECIAL_NUMBERS), st.floats(allow_nan=True, allow_infinity=True),
+scalars = st.one_of(st.sampled_from(EDGE_NUMBERS), st.floats(allow_nan=True, allow_infinity=True),
                     st.integers(), st.booleans(), st.none(), YAML_TEXT)
 values = st.recursive(scalars, lambda inner: st.one_of(st.lists(inner, max_size=6),
                                                        st.dictionaries(YAML_TEXT, inner, max_size=4)),

@@ -1,4 +1,4 @@
-// SPEC 1.4 — Euclidean clustering of object candidates, with extent filters.
+// method.md §1.4 — Euclidean clustering of object candidates, with extent filters.
 //
 // Semantics are PCL's Euclidean cluster extraction: clusters are the connected components
 // of the graph joining points at distance <= eps. With voxel_m == 0 the components are

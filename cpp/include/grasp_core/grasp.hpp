@@ -1,4 +1,4 @@
-// Grasp pose math and view quality (SPEC 3).
+// Grasp pose math and view quality (method.md §3).
 #pragma once
 
 #include <optional>
@@ -19,22 +19,22 @@ struct BestGrasp {
   double score = 0.0;            ///< always 0 for this geometric method (no fake confidence)
 };
 
-/// Below this norm a cross product / projection counts as zero (SPEC 3's "~0", 1e-6).
+/// Below this norm a cross product / projection counts as zero (method.md §3's "~0", 1e-6).
 constexpr double kDegenerateNorm = 1e-6;
-/// Below this distance object and camera coincide (SPEC 3).
+/// Below this distance object and camera coincide (method.md §3).
 constexpr double kCoincidentDistance_m = 1e-9;
 
-/// R = [n, normalize(closing x n), closing] with closing = R_box[:,0] (SPEC 3).
+/// R = [n, normalize(closing x n), closing] with closing = R_box[:,0] (method.md §3).
 /// Returns no value when |closing x n| < kDegenerateNorm. The third column is rebuilt as
 /// col0 x col1 (= closing when closing is perpendicular to n) so det is exactly +1.
 std::optional<Mat3> top_down_rotation(const Mat3& R_box, const Vec3& n);
 
 /// BestGrasp from an estimate: top_down_rotation with columns 0 and 2 negated,
 /// position = centre, width = estimate width, score 0. No value if the rotation fails.
-/// Guards (grasp_ok) are NOT checked here: selection does that (SPEC 5).
+/// Guards (grasp_ok) are NOT checked here: selection does that (method.md §5).
 std::optional<BestGrasp> best_grasp_from_estimate(const ObjectEstimate& est, const Plane& plane);
 
-/// Camera pose above an object (SPEC 3): z_c = -n; x_c = the ready camera's x projected
+/// Camera pose above an object (method.md §3): z_c = -n; x_c = the ready camera's x projected
 /// into the plane (fallback u of in_plane_basis when shorter than kDegenerateNorm),
 /// normalised; y_c = z_c x x_c; position = (object x, object y, ready camera z).
 Pose camera_above_pose(const Vec3& object, const Plane& plane, const Pose& ready_camera_world);

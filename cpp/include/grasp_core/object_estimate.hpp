@@ -1,4 +1,4 @@
-// Object estimate of one cluster above the table plane (SPEC 2.1-2.4, 2.6).
+// Object estimate of one cluster above the table plane (method.md §2.1-2.4, 2.6).
 //
 // The closing direction comes from a horizontal width scan, not from PCA; the PCA box
 // (pca_box.hpp) is carried along as a diagnostic only. Angles theta are in [0, pi):
@@ -45,7 +45,7 @@ struct EstimateResult {
   std::string failure;  ///< empty on success
 };
 
-/// Estimate one object from its cluster (SPEC 2).
+/// Estimate one object from its cluster (method.md §2).
 ///
 /// @param pts        cluster points in world (rows with a NaN/Inf or a |coordinate| beyond
 ///                   max_abs_coordinate_m are ignored defensively)
@@ -57,8 +57,8 @@ struct EstimateResult {
 ///                   per-frame path)
 ///
 /// No estimate (a failure text instead) for: an invalid plane, fewer than 3 valid points,
-/// a failed PCA (SPEC 2.5), and (ours) a cluster that is not above the plane, i.e. whose
-/// slice-median top is below it (height < 0): SPEC 2 estimates objects standing on the
+/// a failed PCA (method.md §2.5), and (ours) a cluster that is not above the plane, i.e. whose
+/// slice-median top is below it (height < 0): method.md §2 estimates objects standing on the
 /// plane, and a box with a negative height is no box; the guards of 2.6 (e.g. "too low")
 /// judge estimates that exist, with 0 <= height.
 ///
@@ -72,9 +72,9 @@ EstimateResult estimate_object(const PointsD& pts, const Plane& plane, const Obb
                                std::optional<double> band = std::nullopt,
                                double max_abs_coordinate_m = kDefaultMaxAbsCoordinate_m);
 
-/// The part of SPEC 2 for one cluster that does not depend on theta_prev: the valid points,
+/// The part of method.md §2 for one cluster that does not depend on theta_prev: the valid points,
 /// the PCA box (2.5), the decomposition (2.1), the slice-median height (2.4) and the width
-/// scan (2.2). SPEC 4's two-pass estimation computes it once per cluster and finishes it
+/// scan (2.2). method.md §4's two-pass estimation computes it once per cluster and finishes it
 /// twice (without, then with the tracker's prior), so the second pass repeats none of the
 /// per-point work; the results are exactly those of two full estimate_object() calls.
 struct PreparedEstimate {
@@ -125,7 +125,7 @@ double extent_along(const std::vector<double>& a, const std::vector<double>& b, 
 /// max ext / min ext; +inf when min ext ~ 0 (or the scan is empty).
 double anisotropy_ratio(const std::vector<double>& ext);
 
-/// One run of consecutive candidate indices (SPEC 2.3).
+/// One run of consecutive candidate indices (method.md §2.3).
 struct DirectionRun {
   int first = 0;             ///< first index in circular order
   int last = 0;              ///< last index; last < first for a run merged across the wrap
@@ -147,7 +147,7 @@ struct DirectionChoice {
   std::vector<DirectionRun> runs;
 };
 
-/// SPEC 2.3: with theta_prev the run nearest to it (mod-pi distance; ties -> smaller theta);
+/// method.md §2.3: with theta_prev the run nearest to it (mod-pi distance; ties -> smaller theta);
 /// without, among runs within width_tol_m of the smallest run width the smallest theta.
 DirectionChoice choose_direction(const std::vector<double>& ext, double width_tol_m,
                                  std::optional<double> theta_prev);
@@ -166,7 +166,7 @@ double angle_dist_mod_pi(double a_rad, double b_rad);
 /// x wrapped into [0, pi).
 double wrap_mod_pi(double x_rad);
 
-/// Slice-median top (SPEC 2.4): top = max d; up to iters times keep d >= top - k sigma,
+/// Slice-median top (method.md §2.4): top = max d; up to iters times keep d >= top - k sigma,
 /// stop if fewer than 3 kept, top = median(kept), stop when unchanged. Empty -> NaN.
 double slice_median_top(const std::vector<double>& d, double sigma_m, double slice_sigmas,
                         int iters);

@@ -1,6 +1,6 @@
 // (ours) Organized segmentation of the object candidates of one RGB-D frame.
 //
-// Euclidean clustering with a radius of 15 mm (SPEC 1.4) merges objects closer than that, which
+// Euclidean clustering with a radius of 15 mm (method.md §1.4) merges objects closer than that, which
 // in packed and piled scenes is the common case. When the frame is organized (row v*W + u is
 // pixel (u, v)), the candidates (points above the band) are segmented over the image instead,
 // in the manner of PCL's OrganizedConnectedComponentSegmentation with a comparator: two
@@ -23,7 +23,7 @@
 // cluster_eps in 3-D. With the table plane, a segment nested in another one and joined to it by a
 // sloped surface then joins it (nested_segments.hpp: a bottle's cap and shoulder, a bowl's floor
 // and rim seen from above). Components are then labelled by the rules of
-// SPEC 1.4 (min_points, extents) through clusters_from_components().
+// method.md §1.4 (min_points, extents) through clusters_from_components().
 //
 // Why not PCL's class itself: OrganizedConnectedComponentSegmentation visits every pixel of
 // the frame (307k at 640x480) through a virtual comparator and needs a PCL cloud of the whole

@@ -1,6 +1,6 @@
-// Parameter sets of the perception core, with SPEC's names and defaults.
+// Parameter sets of the perception core, with the names and defaults of docs/method.md.
 //
-// SceneFilterParams = SPEC 1.6, ObbParams = the perception part of SPEC 2.7
+// SceneFilterParams = method.md §1.6, ObbParams = the perception part of method.md §2.7
 // (estimate, guards and tracker). The Python side loads them from
 // config/scene_filter.yaml and config/obb.yaml; validate() is the single place
 // that rejects negative or absurd values, naming the parameter.
@@ -20,7 +20,7 @@ struct SceneFilterParams {
   int plane_fit_max_points = 4000;       ///< subsample size for the search
   double plane_min_inlier_ratio = 0.15;  ///< acceptance within the subsample
   int plane_max_count = 3;               ///< planes extracted per frame
-  double plane_dominance = 0.70;         ///< rho of SPEC 1.3
+  double plane_dominance = 0.70;         ///< rho of method.md §1.3
   bool plane_lock = true;                ///< persistence state machine on/off
   int plane_lock_after = 5;              ///< consistent frames before hardening
   double plane_update_tol_deg = 5.0;     ///< "close" normal angle [deg]

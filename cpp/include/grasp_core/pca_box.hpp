@@ -1,4 +1,4 @@
-// PCA oriented bounding box (SPEC 2.5): a diagnostic only, it never drives the grasp.
+// PCA oriented bounding box (method.md §2.5): a diagnostic only, it never drives the grasp.
 #pragma once
 
 #include <optional>
@@ -16,7 +16,7 @@ struct PcaBox {
   Vec3 eigenvalues = Vec3::Zero();  ///< covariance eigenvalues, descending [m^2]
 };
 
-/// Collinearity threshold of SPEC 2.5: lambda2 <= kPcaCollinearRatio * lambda1 fails.
+/// Collinearity threshold of method.md §2.5: lambda2 <= kPcaCollinearRatio * lambda1 fails.
 constexpr double kPcaCollinearRatio = 1e-6;
 
 /// PCA box of N x 3 points (covariance with N - 1).

@@ -1,8 +1,8 @@
-// SPEC 1.1 — one horizontal-constrained RANSAC plane, refined by least squares.
+// method.md §1.1 — one horizontal-constrained RANSAC plane, refined by least squares.
 //
 // The search is PCL's sample consensus: pcl::SampleConsensusModelPerpendicularPlane
 // (axis +z, eps angle = plane_max_tilt_deg) driven by pcl::RandomSampleConsensus
-// (threshold = plane_dist_thresh). How PCL is configured so that it honours SPEC 1.1
+// (threshold = plane_dist_thresh). How PCL is configured so that it honours method.md §1.1
 // (fixed iteration count, seeded sampling, orientation) is documented at
 // fit_plane_ransac() below.
 #pragma once
@@ -27,14 +27,14 @@ struct PlaneFit {
   int iterations = 0;    ///< RANSAC models evaluated
 };
 
-/// SPEC 1.1 on every valid row of `points`: rows with a NaN/Inf or a |coordinate| beyond
+/// method.md §1.1 on every valid row of `points`: rows with a NaN/Inf or a |coordinate| beyond
 /// params.max_abs_coordinate_m are ignored.
 ///
 /// - Minimal sample: 3 distinct points (PCL draws them without replacement by a partial
 ///   shuffle of the index list). Collinear samples (|(p2-p1)x(p3-p1)| below PCL's float
 ///   precision, 1e-5 m^2) are discarded by PCL and redrawn; they do not count as iterations.
 /// - Tilt: PCL's perpendicular-plane model rejects a model whose normal is more than
-///   plane_max_tilt_deg from +/-z, which is the SPEC rule "flip n so n_z >= 0, discard if
+///   plane_max_tilt_deg from +/-z, which is the rule of method.md §1.1 "flip n so n_z >= 0, discard if
 ///   n_z < cos(tilt)". Such a model counts as an iteration with score 0.
 /// - Iterations: exactly plane_ransac_iters scored models. PCL's adaptive early
 ///   termination is switched off (probability 1 => k = +inf) and PCL's off-by-one

@@ -1,4 +1,4 @@
-// SPEC 1.5 — table-plane persistence (lock / hits / harden / anchor / init fallback).
+// method.md §1.5 — table-plane persistence (lock / hits / harden / anchor / init fallback).
 //
 // Eye-in-hand: the table leaves the view when the hand comes close, so the plane found
 // early is kept as a session constant. Log lines are returned as FrameEvent values (the
@@ -34,7 +34,7 @@ enum class PlaneDecision : int {
   kUnlockedFit,      ///< plane_lock = false: this frame's own fit is used
 };
 
-/// The state of SPEC 1.5 (a snapshot is copied into every frame result).
+/// The state of method.md §1.5 (a snapshot is copied into every frame result).
 struct PersistenceState {
   std::optional<Plane> lock;    ///< the current table plane (latched)
   std::optional<Plane> anchor;  ///< reference for closeness once hardened
@@ -54,10 +54,10 @@ struct PersistenceUpdate {
   std::vector<FrameEvent> events;
 };
 
-/// SPEC 1.5 closeness: normal angle <= tol_deg AND |height(a) - height(b)| <= tol_m.
+/// method.md §1.5 closeness: normal angle <= tol_deg AND |height(a) - height(b)| <= tol_m.
 bool planes_close(const Plane& a, const Plane& b, double tol_deg, double tol_m);
 
-/// SPEC 1.5 state machine.
+/// method.md §1.5 state machine.
 ///
 /// - plane_lock_after counts the first fit: with plane_lock_after = 1 the first fit locks
 ///   and hardens in the same frame.

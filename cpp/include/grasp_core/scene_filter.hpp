@@ -1,4 +1,4 @@
-// SPEC 1.2–1.5 — the per-frame scene filter: sequential plane extraction, table choice
+// method.md §1.2–1.5 — the per-frame scene filter: sequential plane extraction, table choice
 // (dominance then height), band split, Euclidean clustering with extent filters, a label
 // for every input row, and the plane persistence that makes the table a session constant.
 #pragma once
@@ -21,7 +21,7 @@ namespace grasp_core {
 struct FrameContext {
   /// > 0: the frame is organized, row v * image_width + u is pixel (u, v) (NaN rows where
   /// invalid), and the candidates are segmented over the image (organized_segmentation.hpp)
-  /// when params.segment_organized; 0: Euclidean clustering (SPEC 1.4).
+  /// when params.segment_organized; 0: Euclidean clustering (method.md §1.4).
   int image_width = 0;
   /// nullptr or (rows) x 3 bytes: the colour of each row's pixel (row-major RGB), used by the
   /// organized segmentation's colour test.
@@ -31,17 +31,17 @@ struct FrameContext {
   std::optional<Vec3> camera_position;
 };
 
-/// One plane of the sequential extraction (SPEC 1.2).
+/// One plane of the sequential extraction (method.md §1.2).
 struct PlaneCandidate {
   Plane plane;                ///< refined plane (or the RANSAC model, see PlaneFit::refined)
-  int count_whole = 0;        ///< SPEC `count`: inliers |d| < plane_dist_thresh on the WHOLE frame cloud
+  int count_whole = 0;        ///< method.md §1.2 `count`: inliers |d| < plane_dist_thresh on the WHOLE frame cloud
   int subsample_inliers = 0;  ///< inliers of the RANSAC model within the search subsample
   int subsample_size = 0;     ///< size of that subsample
   int removed = 0;            ///< points removed from the remainder (inliers of `plane` in it)
   bool refined = false;       ///< PlaneFit::refined
 };
 
-/// SPEC 1.2 on the valid rows of a strided float array (row i at xyz + i*stride, stride >= 3):
+/// method.md §1.2 on the valid rows of a strided float array (row i at xyz + i*stride, stride >= 3):
 /// finite, with every |coordinate| <= params.max_abs_coordinate_m.
 /// Plane k searches a subsample of at most plane_fit_max_points drawn without replacement,
 /// with a std::mt19937_64 seeded from (seed, k), from the points not yet assigned to a
@@ -61,7 +61,7 @@ std::vector<PlaneCandidate> extract_planes(const PointsF& points, const SceneFil
 std::vector<PlaneCandidate> extract_planes(const PointsD& points, const SceneFilterParams& params,
                                            std::uint64_t seed);
 
-/// SPEC 1.3: among planes with count_whole >= dominance x max count_whole take the highest
+/// method.md §1.3: among planes with count_whole >= dominance x max count_whole take the highest
 /// (largest height_m()); ties keep the earlier plane. Returns its index, or -1 if `planes`
 /// is empty.
 int choose_table(const std::vector<PlaneCandidate>& planes, double dominance);
@@ -78,7 +78,7 @@ struct SceneFilterResult {
   bool fallback = false;             ///< init-frames fallback: whole cloud is environment
   std::optional<Plane> table;        ///< the plane used this frame (the lock), latched
   std::optional<Plane> fit;          ///< this frame's own table fit (diagnostic)
-  double band = 0.0;                 ///< SPEC band [m] (session constant)
+  double band = 0.0;                 ///< method.md §1.4 band [m] (session constant)
   std::vector<PlaneCandidate> planes;   ///< all planes extracted this frame
   int table_index = -1;              ///< index of the table in planes, -1 if none
   int num_valid = 0;                 ///< rows used: finite and within the coordinate bound
@@ -112,7 +112,7 @@ struct SceneFilterWorkspace {
   OrganizedWorkspace organized;      ///< buffers of the organized segmentation
 };
 
-/// The per-frame scene filter (SPEC 1). Owns the plane persistence, so one instance per
+/// The per-frame scene filter (method.md §1). Owns the plane persistence, so one instance per
 /// camera session. Frame k's plane search is seeded with (params.seed, k): a session is
 /// reproducible.
 class SceneFilter {

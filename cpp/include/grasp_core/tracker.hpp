@@ -1,4 +1,4 @@
-// Object tracker across frames (SPEC 4): associate -> disambiguate yaw, then smooth ->
+// Object tracker across frames (method.md §4): associate -> disambiguate yaw, then smooth ->
 // quality only goes up.
 #pragma once
 
@@ -30,7 +30,7 @@ struct Track {
   std::deque<double> width_m_, perp_width_m_, height_m_, theta_rad_, anisotropy_;
 };
 
-/// Tracker of SPEC 4. Not thread-safe by itself (one instance per perception session); the
+/// Tracker of method.md §4. Not thread-safe by itself (one instance per perception session); the
 /// Python binding serialises every call on one instance with a mutex.
 class Tracker {
  public:
@@ -56,7 +56,7 @@ class Tracker {
 
   /// Tracks sorted by tid.
   const std::vector<Track>& tracks() const { return tracks_; }
-  /// The gate of the last update() (for select, SPEC 5).
+  /// The gate of the last update() (for select, method.md §5).
   std::optional<double> last_gate() const { return last_gate_; }
   /// Forget all tracks and the gate. Tids keep increasing (never reused).
   void reset();
@@ -71,7 +71,7 @@ class Tracker {
   int next_tid_ = 0;
 };
 
-/// Two-pass estimation of one frame's clusters (SPEC 4): estimate each without prior;
+/// Two-pass estimation of one frame's clusters (method.md §4): estimate each without prior;
 /// gate from those first-pass centres; prior = tracker.prior_theta(centre, gate);
 /// estimate again with theta_prev; if the second pass fails keep the first.
 /// Returns one result per cluster (same order); failed clusters keep their failure text.

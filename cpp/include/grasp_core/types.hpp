@@ -1,6 +1,6 @@
 // Basic value types shared by every part of the perception core.
 //
-// Frames and conventions follow SPEC section 0: everything is in `world` (z up),
+// Frames and conventions follow method.md §0: everything is in `world` (z up),
 // a plane is (n, c) with n.p + c = 0, |n| = 1 and n_z > 0, rotations have det +1.
 #pragma once
 
@@ -65,7 +65,7 @@ struct Pose {
   Vec3 t = Vec3::Zero();
 };
 
-/// View quality of one observation (SPEC 3). Ordered: NADIR > OBLIQUE.
+/// View quality of one observation (method.md §3). Ordered: NADIR > OBLIQUE.
 enum class ViewQuality : int { OBLIQUE = 0, NADIR = 1 };
 
 }  // namespace grasp_core

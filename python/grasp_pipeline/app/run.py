@@ -313,7 +313,7 @@ def _write_early(report: RunReport, wall0: float, json_path) -> None:
 def default_grasp_source(settings: Settings) -> GraspSource:
     """The grasp source ``grasp.grasp_source`` names
     (:mod:`~grasp_pipeline.orchestration.grasping.registry`): ``any_side`` — grasps from any
-    side within the sampler's tilt limit; ``top_down`` — SPEC 3's top-down grasp fitted to the
+    side within the sampler's tilt limit; ``top_down`` — method.md §3's top-down grasp fitted to the
     perceived points."""
     return make_grasp_source(settings)
 

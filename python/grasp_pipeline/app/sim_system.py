@@ -51,7 +51,7 @@ SCENES = ("reference", "random", "sparse", "packed", "pile")
 
 
 def make_scene(scene, seed: int, settings: Settings, objects="builtin"):
-    """The reference scene (SPEC 8), a seeded random (sparse) scene of primitives, a seeded
+    """The reference scene (method.md §8), a seeded random (sparse) scene of primitives, a seeded
     ``packed`` or ``pile`` scene (VGN/GIGA protocols) of the object set ``objects``
     (``builtin`` or a folder/file, :func:`grasp_pipeline.objects.catalog.object_set`, or the
     list of object models it gave), or ``scene`` itself when it is a

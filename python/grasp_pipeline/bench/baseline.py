@@ -1,6 +1,6 @@
 """The original design's Python perception pipeline, kept as the speed baseline.
 
-SPEC 1.1–1.3 in numpy (RANSAC on a subsample, counts on the whole cloud,
+method.md §1.1–1.3 in numpy (RANSAC on a subsample, counts on the whole cloud,
 dominance then height), then Open3D's ``cluster_dbscan`` on the points above the
 band and Open3D's oriented bounding box per cluster — what the published ROS 2
 design ran per frame. Only the perception benchmark uses it; Open3D is the

@@ -336,7 +336,7 @@ def _md_accuracy(r: dict) -> list[str]:
     L += _table(["error", "NADIR median", "NADIR p90", "n", "oblique median", "oblique p90", "n"], rows)
     L += ["Yaw is scored for cubes and cuboids: modulo 90° for cubes and for cuboids whose sides "
           "differ by no more than perception's `obb.width_tol_m` (two equivalent closing directions, "
-          "SPEC 2.3; their width is compared with the side the estimate closes on), modulo 180° "
+          "method.md §2.3; their width is compared with the side the estimate closes on), modulo 180° "
           "for the other cuboids.", ""]
     L += ["![estimate errors](errors.png)", ""]
     return L

@@ -113,7 +113,7 @@ def _time_baseline(clouds: list, sf_cfg, baseline_frames: int) -> tuple[dict | N
             b_objects.append(len(res["boxes"]))
         baseline = _stats(b_ms)
         baseline["objects_per_frame"] = b_objects
-        baseline["implementation"] = "numpy RANSAC (SPEC 1.1-1.3) + Open3D cluster_dbscan + Open3D OBB"
+        baseline["implementation"] = "numpy RANSAC (method.md §1.1-1.3) + Open3D cluster_dbscan + Open3D OBB"
     return baseline, baseline_note
 
 

@@ -16,7 +16,7 @@ from ..sim.ground_truth import object_truths
 #: yaw symmetry of each object kind [deg] (None: round, yaw undefined)
 YAW_SYMMETRY_DEG = {"cube": 90.0, "cuboid": 180.0, "cylinder": None}
 #: a footprint whose two sides differ by no more than perception's closing-direction
-#: tolerance (``obb.width_tol_m``) has two equivalent closing directions (SPEC 2.3)
+#: tolerance (``obb.width_tol_m``) has two equivalent closing directions (method.md §2.3)
 SQUARE_SYMMETRY_DEG = 90.0
 
 

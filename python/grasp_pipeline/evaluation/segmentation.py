@@ -8,7 +8,7 @@ another object or the environment), **split** when at least two clusters each ho
 ≥ ``part_fraction`` of its visible points, **missed** when no cluster holds that much.
 
 "Visible points" are the frame's valid pixels that show the object *and* lie above the
-scene filter's band (SPEC 1.4: points within ``band`` of the table plane are environment by
+scene filter's band (method.md §1.4: points within ``band`` of the table plane are environment by
 definition, whatever the segmentation does), so a flat object is not scored on the slice that
 no table-top method can separate from the table.
 

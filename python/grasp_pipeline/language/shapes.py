@@ -1,7 +1,7 @@
 """Shape words from a perceived object: box, cylinder (also "can"), mug, bottle or other.
 
 Input: the object's box (centre, ``R_box`` = [closing direction, its perpendicular, table
-normal], extents = (width, perp_width, height); SPEC 2.4) and the world points seen of it
+normal], extents = (width, perp_width, height); method.md §2.4) and the world points seen of it
 over the frames. In the box frame the points give a top-view **height map** (the highest
 point in each ``shape_cell_m`` cell) and a **footprint** (their convex hull on the table):
 

@@ -1,7 +1,7 @@
 """Typed parameters of the motion layer (``config/motion.yaml``).
 
 ``load_motion_config()`` reads the packaged defaults, an optional user file and
-``name=value`` overrides (see :func:`grasp_pipeline.config.load_config`). SPEC 2.7
+``name=value`` overrides (see :func:`grasp_pipeline.config.load_config`). method.md §2.7
 fixes ``planning_time`` (10 s), ``num_planning_attempts`` (10) and the velocity /
 acceleration scales (0.3 / 0.3); here they carry their unit in the name. The planning
 time and attempt count are *upper bounds*: planning stops at the first exact solution.
@@ -29,7 +29,7 @@ KNOWN_PLANNERS = ("RRTConnect", "RRT", "RRTstar", "PRM", "KPIECE1", "BKPIECE1", 
 class MotionConfig:
     """Every tunable number of IK, collision checking, planning, timing and execution."""
 
-    # --- planner (SPEC 2.7) -------------------------------------------------------------
+    # --- planner (method.md §2.7) -------------------------------------------------------------
     planner: str = "RRTConnect"
     planning_time_s: float = 10.0
     num_planning_attempts: int = 10

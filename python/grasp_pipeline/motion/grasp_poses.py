@@ -1,4 +1,4 @@
-"""TCP poses of a top-down grasp (SPEC 3 / 7): the one place the closing sign is chosen.
+"""TCP poses of a top-down grasp (method.md §3 / 7): the one place the closing sign is chosen.
 
 Our TCP frame (``grasp_pipeline.robot.description``): z = approach (into the object),
 y = closing axis, x = y × z. A parallel gripper's closing axis has no sign; of the two, the

@@ -39,7 +39,7 @@ COLORS: dict[str, tuple[float, float, float, float]] = {
 _S = shapes
 #: name -> (category, colour name, generator of the parts); the order is BUILTIN_NAMES.
 #: Blob generators receive their seed from the name (see _build).
-_SPECS: dict = {
+_RECIPES: dict = {
     # VGN-style blocks
     "red_cube": ("cube", "red", partial(_S.box_parts, 0.045, 0.045, 0.045)),
     "small_blue_cube": ("cube", "blue", partial(_S.box_parts, 0.03, 0.03, 0.03)),
@@ -91,7 +91,7 @@ _SPECS: dict = {
     "cyan_blob": ("blob", "cyan", partial(_S.blob_parts, (0.04, 0.022, 0.02), points=36)),
 }
 
-BUILTIN_NAMES: tuple[str, ...] = tuple(_SPECS)
+BUILTIN_NAMES: tuple[str, ...] = tuple(_RECIPES)
 
 
 def _seed(name: str) -> int:
@@ -100,7 +100,7 @@ def _seed(name: str) -> int:
 
 
 def _build(name: str) -> ObjectModel:
-    category, color, make = _SPECS[name]
+    category, color, make = _RECIPES[name]
     raw = make(seed=_seed(name)) if category == "blob" else make()
     parts = tuple(shapes.standing_on_table(raw))
     visual = trimesh.util.concatenate(list(parts))
@@ -110,7 +110,7 @@ def _build(name: str) -> ObjectModel:
 
 def builtin_object(name: str) -> ObjectModel:
     """The built-in object ``name`` (freshly built: callers may modify it)."""
-    if name not in _SPECS:
+    if name not in _RECIPES:
         raise MeshError(f"unknown built-in object {name!r}; known: {', '.join(BUILTIN_NAMES)}")
     return _build(name)
 

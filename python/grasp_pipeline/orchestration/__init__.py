@@ -6,12 +6,12 @@ sub-packages follow the data flow:
 
 * :mod:`.scene` — frames → perception → tracks (:class:`PerceptionLoop`), the scene's points
   and boxes, the selection (:class:`Selector`) and the default targets;
-* :mod:`.scanning` — looking at the scene: the active scan (:class:`ActiveScan`, SPEC 6), the
+* :mod:`.scanning` — looking at the scene: the active scan (:class:`ActiveScan`, method.md §6), the
   closer look at ambiguous segments, the side view;
 * :mod:`.grasping` — where grasps come from: the :class:`GraspSource` protocol
   (:mod:`.grasping.source`) and its sources (any-side, top-down, fixed), selected by
   ``grasp.grasp_source`` (:mod:`.grasping.registry`); the point checks they share;
-* :mod:`.execution` — acting: the grasp action (:class:`GraspAction`, SPEC 7 + PLACE) and its
+* :mod:`.execution` — acting: the grasp action (:class:`GraspAction`, method.md §7 + PLACE) and its
   stages (:class:`Stage`), grasp planning, gripper moves, placing into the tray,
   :class:`MotionClient`.
 

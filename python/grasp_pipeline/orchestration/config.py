@@ -19,7 +19,7 @@ CLOSER_LOOK_RULES = ("wide", "non_convex")
 
 @dataclass(frozen=True)
 class ScanConfig:
-    """SPEC 6 active scan and perception liveness."""
+    """method.md §6 active scan and perception liveness."""
 
     dwell_frames: int = 5
     dwell_timeout_s: float = 5.0
@@ -66,7 +66,7 @@ class ScanConfig:
 
 @dataclass(frozen=True)
 class GraspConfig:
-    """SPEC 7 grasp action (the PLACE stage's parameters: :class:`~.place_config.PlaceConfig`)."""
+    """method.md §7 grasp action (the PLACE stage's parameters: :class:`~.place_config.PlaceConfig`)."""
 
     pre_grasp_distance_m: float = 0.12
     fragment_margin_m: float = 0.01
@@ -162,8 +162,8 @@ class DeclutterConfig:
 
 @dataclass(frozen=True)
 class GraspFitConfig:
-    """Grasps fitted to the perceived points and the support rule (ours; extends SPEC 2.6 and
-    3, see ``docs/spec_extensions.md``)."""
+    """Grasps fitted to the perceived points and the support rule (ours; extends method.md §2.6 and
+    3, see ``docs/method.md``)."""
 
     cloud_voxel_m: float = 0.003
     support_gap_m: float = 0.015

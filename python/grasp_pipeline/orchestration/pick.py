@@ -11,7 +11,7 @@
    camera looks at the tray during a place) and an oblique view misjudges what a grasp
    needs, so an object whose track is no longer NADIR — or is gone — is measured from above
    again;
-3. select by position (SPEC 5) and verify that best grasps actually arrive (a dead upstream
+3. select by position (method.md §5) and verify that best grasps actually arrive (a dead upstream
    must not look like success);
 4. (ours) when a side view is configured (``PickContext.side_view``) and the target's sides
    are mostly unknown in the scene volume, look at them first (:mod:`.side_view`);

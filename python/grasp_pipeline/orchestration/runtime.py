@@ -7,7 +7,7 @@ stepped the world itself (an executor stepping a trajectory does), steps the wor
 physics step. Camera frames reach perception through the world's frame listeners, so
 perception runs at the camera rate whoever steps. A trigger such as ``scan.trigger()``
 therefore returns at once and the work happens while the caller spins the runtime —
-the non-blocking service semantics of SPEC 6, without threads.
+the non-blocking service semantics of method.md §6, without threads.
 
 Frames on demand: the camera renders only while someone looks
 (:meth:`Runtime.looking`, the robot's ``request_frames``). :meth:`Runtime.spin` looks by

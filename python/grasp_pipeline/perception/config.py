@@ -1,6 +1,6 @@
-"""Typed parameter sets of the perception core (SPEC 1.6 and 2.7).
+"""Typed parameter sets of the perception core (method.md §1.6 and 2.7).
 
-Field names and defaults are SPEC's; the YAML files are ``config/scene_filter.yaml``
+Field names and defaults are docs/method.md's; the YAML files are ``config/scene_filter.yaml``
 and ``config/obb.yaml``.
 
 Every value is checked here, in Python, before it reaches C++ (at construction, in
@@ -33,7 +33,7 @@ def _to_core(cfg: Any, core_cls: type) -> Any:
     return params
 
 
-#: SPEC 1.6 ranges (the C++ SceneFilterParams::validate()); cross-field rules in validate().
+#: method.md §1.6 ranges (the C++ SceneFilterParams::validate()); cross-field rules in validate().
 _SCENE_FILTER_RANGES = {
     "plane_dist_thresh": Range(0, 1.0, lo_open=True, unit=" m"),
     "plane_max_tilt_deg": Range(0, 90, lo_open=True, hi_open=True, unit=" deg"),
@@ -70,7 +70,7 @@ _SCENE_FILTER_RANGES = {
     "object_min_height_sigmas": Range(0, 100, unit=" (0 disables)"),
 }
 
-#: SPEC 2.7 ranges (the C++ ObbParams::validate()); cross-field rules in validate().
+#: method.md §2.7 ranges (the C++ ObbParams::validate()); cross-field rules in validate().
 _OBB_RANGES = {
     "depth_noise_sigma": Range(0, 0.1, lo_open=True, unit=" m"),
     "top_slice_sigmas": Range(0, 100, lo_open=True),
@@ -94,7 +94,7 @@ _OBB_RANGES = {
 
 @dataclass(frozen=True)
 class SceneFilterConfig:
-    """SPEC 1.6: table plane search, persistence and clustering."""
+    """method.md §1.6: table plane search, persistence and clustering."""
 
     plane_dist_thresh: float = 0.008
     plane_max_tilt_deg: float = 10.0
@@ -174,7 +174,7 @@ class SceneFilterConfig:
 
 @dataclass(frozen=True)
 class ObbConfig:
-    """SPEC 2.7 (perception part): object estimate, guards and tracker."""
+    """method.md §2.7 (perception part): object estimate, guards and tracker."""
 
     depth_noise_sigma: float = 0.002
     top_slice_sigmas: float = 4.0

@@ -71,7 +71,7 @@ class FrameResult:
 
     @property
     def environment_mask(self) -> np.ndarray:
-        """Environment rows; empty before the first lock (SPEC 1.5: nothing is emitted)."""
+        """Environment rows; empty before the first lock (method.md §1.5: nothing is emitted)."""
         if not self.raw.filter.environment_emitted:
             return np.zeros(len(self.labels), dtype=bool)
         return self.labels == _core.LABEL_ENVIRONMENT
@@ -136,7 +136,7 @@ class PerceptionSession:
         ``image_width_px`` > 0: the frame is organized (row ``v*W + u`` is pixel (u, v), as
         :class:`~grasp_pipeline.robot.frame.Frame` delivers it) and the object candidates are
         segmented over the image (``scene_filter.segment_*``); 0: an unorganized cloud
-        (Euclidean clustering, SPEC 1.4). ``rgb``: None or the (H, W, 3) uint8 colour image
+        (Euclidean clustering, method.md §1.4). ``rgb``: None or the (H, W, 3) uint8 colour image
         aligned with the rows, read in place (its colour boundaries separate touching objects)."""
         points, outside = self.workspace.apply(points, camera_position)
         raw = self._core.process(points, camera_position, float(time_s), int(image_width_px), rgb)

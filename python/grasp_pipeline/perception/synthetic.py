@@ -166,7 +166,7 @@ def render_depth(
 
 
 def reference_tabletop() -> Tabletop:
-    """SPEC 8's reference arrangement: blue cube, red cube, green cylinder on a 0.2 m table."""
+    """method.md §8's reference arrangement: blue cube, red cube, green cylinder on a 0.2 m table."""
     return Tabletop(
         objects=(
             Box(center_xy=(0.56, -0.03), size_m=(0.05, 0.05, 0.05), yaw_deg=20.0),

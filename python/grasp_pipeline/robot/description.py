@@ -63,7 +63,7 @@ NEUTRAL_Q = np.array([0.0, -np.pi / 4, 0.0, -3 * np.pi / 4, 0.0, np.pi / 2, np.p
 NEUTRAL_Q.setflags(write=False)
 
 #: The reference start ("ready") joints: from here the camera sees the three objects of the
-#: reference scene (SPEC section 8) obliquely. Found with :func:`grasp_pipeline.sim.ik.solve_ik`
+#: reference scene (method.md §8) obliquely. Found with :func:`grasp_pipeline.sim.ik.solve_ik`
 #: (seeded at :data:`NEUTRAL_Q`) for the camera at (0.30, -0.01, 0.62) m looking at the objects'
 #: centroid (0.513, -0.013, 0.225) with image right along world -y: 0.45 m from the centroid,
 #: optical axis 28 deg from vertical; every joint >= 33 % of its half-range from its limits.

@@ -5,7 +5,7 @@ Modules (one concept each):
 * :mod:`.gl_backend` — choose the headless GL backend before MuJoCo is imported
   (:func:`~.gl_backend.configure_gl`) and make renderers only where a context can exist.
 * :mod:`.scene_spec` — dataclasses describing a scene (objects: kind, size, pose).
-* :mod:`.scenes` — the reference scene (SPEC section 8) and a seeded random scene generator.
+* :mod:`.scenes` — the reference scene (method.md §8) and a seeded random scene generator.
 * :mod:`.world` — :class:`~.world.SimWorld`: builds and steps the world and implements the
   robot protocols of :mod:`grasp_pipeline.robot.protocols` (arm, gripper, camera, contacts).
 * :mod:`.camera` — :class:`~.camera.DepthCamera`: GL rendering or a ray-cast fallback,

@@ -1,4 +1,4 @@
-"""Scenes: the reference scene of SPEC section 8 and a seeded random scene generator.
+"""Scenes: the reference scene of method.md §8 and a seeded random scene generator.
 
 The fixed set-up (floor, table with its top at 0.200 m, wall, tray) lives in
 ``sim/scene_base.xml``; a :class:`~.scene_spec.SceneSpec` only lists the graspable objects and
@@ -32,7 +32,7 @@ PALETTE: tuple[tuple[float, float, float, float], ...] = (
     (0.95, 0.45, 0.10, 1.0),  # orange
 )
 
-# SPEC section 8: 5 cm cubes, a cylinder of about 5 cm diameter (height ours: 6 cm).
+# method.md §8: 5 cm cubes, a cylinder of about 5 cm diameter (height ours: 6 cm).
 REFERENCE_CUBE_SIZE_M = 0.05
 REFERENCE_CYLINDER_DIAMETER_M = 0.05
 REFERENCE_CYLINDER_HEIGHT_M = 0.06
@@ -43,7 +43,7 @@ def _resting_z(table_top_z_m: float, height_m: float) -> float:
 
 
 def reference_scene(config: SimConfig | None = None) -> SceneSpec:
-    """SPEC section 8: blue cube near (0.56, -0.03), red cube near (0.46, -0.10), green
+    """method.md §8: blue cube near (0.56, -0.03), red cube near (0.46, -0.10), green
     cylinder near (0.52, 0.09) on the table (top at 0.200 m); start joints :data:`READY_Q`."""
     cfg = config if config is not None else load_sim_config()
     top = cfg.table_top_z_m

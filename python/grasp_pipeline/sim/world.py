@@ -199,7 +199,7 @@ class SimWorld:
     @property
     def finger_speed_mps(self) -> float:
         """Speed of one finger [m/s], signed: > 0 opening, < 0 closing (half the gap rate).
-        SPEC section 7's stall test compares ``abs(finger_speed_mps)`` with 0.005 m/s."""
+        method.md §7's stall test compares ``abs(finger_speed_mps)`` with 0.005 m/s."""
         return float(0.5 * self.data.ten_velocity[self._gap_tendon])
 
     @property

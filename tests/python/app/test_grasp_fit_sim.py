@@ -1,6 +1,6 @@
 """Issue 12's grasping scenes, simulated end to end (real MuJoCo physics, OMPL, TOPP-RA):
 an L-shaped block is grasped on its material, a mug across its body, and the top box of a
-stack — all three refused or missed by the box-only grasp and SPEC 2.6's floating rule."""
+stack — all three refused or missed by the box-only grasp and method.md §2.6's floating rule."""
 
 import numpy as np
 

@@ -9,7 +9,7 @@ from grasp_pipeline.app.run import run_pipeline
 from grasp_pipeline.orchestration import FixedGraspSource
 
 BLUE_CUBE_XY = (0.56, -0.03)
-BLUE_CUBE_CENTRE_M = (0.56, -0.03, 0.225)   # SPEC 8: 5 cm cube on the 0.2 m table
+BLUE_CUBE_CENTRE_M = (0.56, -0.03, 0.225)   # method.md §8: 5 cm cube on the 0.2 m table
 BLUE_CUBE_YAW_DEG = 20.0
 
 

@@ -1,4 +1,4 @@
-"""End-to-end on the reference scene (SPEC 8) with the real parts: MuJoCo physics and
+"""End-to-end on the reference scene (method.md §8) with the real parts: MuJoCo physics and
 rendering, the PCL core, OMPL, TOPP-RA. No mocks. One run serves several assertions."""
 
 import pytest

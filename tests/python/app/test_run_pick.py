@@ -9,7 +9,7 @@ import pytest
 
 from .test_entry_points import run_cli, strict_json
 
-#: The reference scene (SPEC 8): blue cube (0.56, -0.03), red cube (0.46, -0.10), green
+#: The reference scene (method.md §8): blue cube (0.56, -0.03), red cube (0.46, -0.10), green
 #: cylinder (0.52, 0.09); the red cube is nearest to the robot base.
 REFERENCE = {"blue cube": (0.56, -0.03), "red cube": (0.46, -0.10), "green cylinder": (0.52, 0.09)}
 

@@ -1,4 +1,4 @@
-"""The scan's refusals (SPEC 6) and selection refusals on the live system."""
+"""The scan's refusals (method.md §6) and selection refusals on the live system."""
 
 import numpy as np
 import pytest

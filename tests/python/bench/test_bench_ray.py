@@ -14,7 +14,7 @@ from grasp_pipeline.bench.workers_bench import _differences
 
 EXE = Path(sys.executable).parent / "grasp-pipeline"
 SEED, SCENES = 142, 2          # two one-object scenes (see test_bench_grasp)
-RUN_SPECIFIC = ("backend", "plots", "summary", "workers_requested")
+RUN_DEPENDENT = ("backend", "plots", "summary", "workers_requested")
 
 
 def _bench(backend: str, d: Path) -> dict:
@@ -36,5 +36,5 @@ def test_ray_backend_gives_the_local_result(tmp_path):
     ray = _bench("ray", tmp_path / "ray")
     assert ray["backend"] == "ray" and local["backend"] == "local"
     assert ray["scenes"] == SCENES and ray["scenes_failed"] == 0
-    same = lambda r: strip_timings({k: v for k, v in r.items() if k not in RUN_SPECIFIC})  # noqa: E731
+    same = lambda r: strip_timings({k: v for k, v in r.items() if k not in RUN_DEPENDENT})  # noqa: E731
     assert _differences(same(local), same(ray)) == []

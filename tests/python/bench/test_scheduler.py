@@ -11,7 +11,7 @@ from grasp_pipeline.bench.scheduler import JobSpec, run_jobs
 
 import jobs_for_tests as jobs  # (this folder is on sys.path: no package)
 
-SPEC = JobSpec(run_fn=jobs.echo_or_die, failed_fn=jobs.failed, desc="test")
+JOB = JobSpec(run_fn=jobs.echo_or_die, failed_fn=jobs.failed, desc="test")
 TASKS = [(0, "a"), (1, "die"), (2, "b"), (3, "c")]
 
 
@@ -23,7 +23,7 @@ def importable(monkeypatch):
 
 @pytest.mark.parametrize("backend", ["local", "ray"])
 def test_a_dying_worker_costs_only_its_job(backend, importable):
-    records, interrupted = run_jobs(TASKS, SPEC, workers=2, timeout_s=120, progress=False,
+    records, interrupted = run_jobs(TASKS, JOB, workers=2, timeout_s=120, progress=False,
                                     backend=backend)
     assert not interrupted
     assert [r["index"] for r in records] == [0, 1, 2, 3]
@@ -36,4 +36,4 @@ def test_unknown_backend_is_refused():
     from grasp_pipeline.exceptions import InputError
 
     with pytest.raises(InputError, match="backend"):
-        run_jobs(TASKS, SPEC, workers=1, timeout_s=10, progress=False, backend="dask")
+        run_jobs(TASKS, JOB, workers=1, timeout_s=10, progress=False, backend="dask")

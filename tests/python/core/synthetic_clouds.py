@@ -1,8 +1,8 @@
-"""Synthetic point clouds for the SPEC tests of the perception core.
+"""Synthetic point clouds for the method tests of the perception core.
 
 Every generator is deterministic (an explicit seed) and returns float64 (N, 3) arrays in
 `world` (z up). Noise is Gaussian along z (a depth camera looking down), σ = 2 mm unless
-stated — the SPEC's `depth_noise_sigma`.
+stated — method.md §2.7's `depth_noise_sigma`.
 """
 
 from __future__ import annotations
@@ -88,7 +88,7 @@ def disc_top(center_xy, diameter, top_z, n=2500, sigma=SIGMA, seed=0):
 
 
 def table_floor_pseudo_scene(seed=0):
-    """SPEC 1.3's measured situation, reproduced.
+    """method.md §1.3's measured situation, reproduced.
 
     - table at z = 0.200: 20 072 points,
     - floor at z = 0 (seen past the table edge): 7 275 points,

@@ -25,11 +25,11 @@ EXAMPLES = int(os.environ.get("GRASP_FUZZ_EXAMPLES", "200"))
 MAX_DUPLICATES = int(os.environ.get("GRASP_FUZZ_MAX_DUPLICATES", "20000"))
 
 F32, F64 = np.finfo(np.float32), np.finfo(np.float64)
-SPECIAL = [0.0, -0.0, np.nan, np.inf, -np.inf, float(F32.max), -float(F32.max), float(F32.tiny),
+EDGE_VALUES = [0.0, -0.0, np.nan, np.inf, -np.inf, float(F32.max), -float(F32.max), float(F32.tiny),
            float(F32.smallest_subnormal), -float(F32.smallest_subnormal), float(F64.max),
            -float(F64.max), float(F64.smallest_subnormal), 1000.0, -1000.0, 1000.0001, 1e-30,
            0.2, 0.25, 3.4e38, -3.4e38, 1.7e38]
-VALUES = st.one_of(st.sampled_from(SPECIAL), st.floats(allow_nan=True, allow_infinity=True),
+VALUES = st.one_of(st.sampled_from(EDGE_VALUES), st.floats(allow_nan=True, allow_infinity=True),
                    st.floats(-2.0, 2.0), st.floats(0.19, 0.3))
 ROW = st.tuples(VALUES, VALUES, VALUES)
 TABLE = table_cloud(2000, seed=5)

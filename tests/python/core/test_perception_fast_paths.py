@@ -5,7 +5,7 @@
   first invalid row); float64 and strided frames always take the row-by-row path. With
   invalid rows (NaN/Inf, out of range) scattered through the frame, every path must give the
   same labels, planes and clusters.
-- SPEC 4's two-pass estimation prepares each cluster once and finishes it twice; its second
+- method.md §4's two-pass estimation prepares each cluster once and finishes it twice; its second
   pass must equal a full estimate_object() call with the tracker's prior.
 """
 

@@ -1,6 +1,6 @@
 """The per-frame entry point (`_core.Perception`) and its Python face
 (`grasp_pipeline.perception.PerceptionSession`) on the synthetic reference tabletop
-(SPEC 8's arrangement rendered by `grasp_pipeline.perception.synthetic`).
+(method.md §8's arrangement rendered by `grasp_pipeline.perception.synthetic`).
 """
 
 import logging

@@ -1,4 +1,4 @@
-"""SPEC section 3 (grasp pose, camera-above pose, view quality) through the bindings."""
+"""method.md §3 (grasp pose, camera-above pose, view quality) through the bindings."""
 
 import math
 

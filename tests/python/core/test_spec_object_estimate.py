@@ -1,4 +1,4 @@
-"""SPEC section 2 (object estimate of one cluster) through the bindings.
+"""method.md §2 (object estimate of one cluster) through the bindings.
 
 2.1 decomposition, 2.2 width scan and anisotropy, 2.3 closing direction (runs, wrap-around
 merge, prior), 2.4 box / slice-median height / centre, 2.5 PCA (diagnostic), 2.6 guards.

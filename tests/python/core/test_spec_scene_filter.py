@@ -1,4 +1,4 @@
-"""SPEC section 1 (scene filter) through the bindings, on synthetic clouds.
+"""method.md §1 (scene filter) through the bindings, on synthetic clouds.
 
 1.1 one RANSAC plane (refinement, tilt re-check), 1.2 sequential extraction with counts on
 the whole cloud, 1.3 dominance then height, 1.4 clustering with extent filters and a label

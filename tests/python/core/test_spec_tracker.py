@@ -1,4 +1,4 @@
-"""SPEC section 4 (tracker) through the bindings: gate, association, two-pass yaw
+"""method.md §4 (tracker) through the bindings: gate, association, two-pass yaw
 disambiguation (the alternating 0°/90° sequence), monotone quality, window restarts,
 two-level retirement.
 """
@@ -139,7 +139,7 @@ def test_alternating_square_keeps_the_true_width_and_smooth_first_gives_the_diag
     assert all(abs(d - 1.0) < 1.0 for d in raw_deg[0::2])
     assert all(abs(d - 89.0) < 1.0 for d in raw_deg[1::2])
 
-    # the SPEC order: estimate -> prior from the track -> estimate again -> smooth
+    # the order of method.md §4: estimate -> prior from the track -> estimate again -> smooth
     tr = _core.Tracker(obb())
     for k, pts in enumerate(frames):
         (r,) = _core.estimate_with_priors([pts], TABLE, obb(), tr, band=0.01)

@@ -1,6 +1,6 @@
 """``grasp-pipeline perceive``: a real cloud file through the scene filter and the estimates.
 
-End-to-end: a synthetic organized 640x480 frame (ray-cast tabletop, SPEC 8's reference
+End-to-end: a synthetic organized 640x480 frame (ray-cast tabletop, method.md §8's reference
 arrangement) saved as a binary_compressed PCD in *camera* coordinates, run through the CLI
 with --T-world-camera and with --up.
 """

@@ -34,9 +34,9 @@ FUZZ = settings(max_examples=EXAMPLES, deadline=None, derandomize=not os.environ
 PARAMS = DecompositionParams(threshold=0.2, resolution=300, mcts_iterations=20, mcts_nodes=5)
 
 F64 = np.finfo(np.float64)
-SPECIAL = [0.0, -0.0, 5e-324, 1e-300, float(F64.max), -float(F64.max), float("nan"), float("inf"), -float("inf"),
+EDGE_VALUES = [0.0, -0.0, 5e-324, 1e-300, float(F64.max), -float(F64.max), float("nan"), float("inf"), -float("inf"),
            1e30, -1e30, 0.001, 0.05, -0.05, 0.5, 1.0, 2.0, 1000.0]
-coord = st.one_of(st.sampled_from(SPECIAL), st.floats(allow_nan=True, allow_infinity=True),
+coord = st.one_of(st.sampled_from(EDGE_VALUES), st.floats(allow_nan=True, allow_infinity=True),
                   st.floats(-0.1, 0.1), st.floats(-0.06, 0.06))
 vertex = st.tuples(coord, coord, coord)
 index = st.one_of(st.integers(-20, 40), st.sampled_from([0, -1, 2**31, -(2**63), 10**20]))

@@ -14,7 +14,7 @@ from grasp_pipeline.sim.ground_truth import object_truth
 LIFT_M = 0.10
 HOLD_S = 2.0
 MAX_SLIP_M = 0.005
-STALL_SPEED_MPS = 0.005   # SPEC section 7
+STALL_SPEED_MPS = 0.005   # method.md §7
 STALL_TIME_S = 0.5
 CLOSE_TIMEOUT_S = 8.0
 EFFORT_N = 40.0

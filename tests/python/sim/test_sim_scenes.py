@@ -1,4 +1,4 @@
-"""Reference scene (SPEC section 8), random scenes, tray, and the ground-truth boundary."""
+"""Reference scene (method.md §8), random scenes, tray, and the ground-truth boundary."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The grasp action (SPEC 7): PRE_GRASP → APPROACH → CLOSE → LIFT → DONE, then PLACE (ours).
+"""The grasp action (method.md §7): PRE_GRASP → APPROACH → CLOSE → LIFT → DONE, then PLACE (ours).
 
 Input: a list of candidate grasps (``_core.BestGrasp``: position = contact point, column 0
 = approach into the object, column 2 = closing axis) from any

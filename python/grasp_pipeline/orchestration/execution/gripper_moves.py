@@ -1,4 +1,4 @@
-"""Gripper routines of the grasp action as runtime task generators (SPEC 7).
+"""Gripper routines of the grasp action as runtime task generators (method.md §7).
 
 Everything here reads only the :class:`~grasp_pipeline.robot.protocols.Gripper` signals
 (measured gap, finger speed, squeeze force) and the clock — never simulator contacts:
@@ -52,7 +52,7 @@ def close_command_m(width_m: float, config: GraspConfig) -> float:
 class StallWatch:
     """Whether the closing fingers have stalled, from the gripper's gap and speed readings.
 
-    SPEC 7: speed below ``stall_speed_mps`` for ``stall_time_s``. Ours: also when the gap
+    method.md §7: speed below ``stall_speed_mps`` for ``stall_time_s``. Ours: also when the gap
     stayed within ``stall_gap_band_m`` over the last ``stall_time_s`` — a still gap whose speed
     reading chatters. Neither counts before ``stall_time_s`` has passed since the command."""
 

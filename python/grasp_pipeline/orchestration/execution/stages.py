@@ -11,7 +11,7 @@ from enum import Enum
 
 
 class Stage(str, Enum):
-    """A stage of one pick: the selection, the grasp source, the grasp action's stages (SPEC 7
+    """A stage of one pick: the selection, the grasp source, the grasp action's stages (method.md §7
     and PLACE), and the check that a picked object arrived (``VERIFY``)."""
 
     SELECT = "SELECT"        # select the target and wait for its published grasps

@@ -1,6 +1,6 @@
-"""Top-down grasps fitted to the perceived points, not only to the box (ours; extends SPEC 3).
+"""Top-down grasps fitted to the perceived points, not only to the box (ours; extends method.md §3).
 
-SPEC 3 closes across the box's narrow side through the box centre. For an L, T or cross block,
+method.md §3 closes across the box's narrow side through the box centre. For an L, T or cross block,
 a prism or a mug the box centre may lie beside the material, and in clutter a finger's path may
 be taken by a neighbour although the box model of the scene says otherwise. Here every
 candidate *closing line* is checked on the points of the scene
@@ -41,7 +41,7 @@ line's own frame (``c`` along the closing axis, ``a`` across it, ``h`` above the
 
 The 2.5-D assumption: what is seen from above extends down to what is under it (occluded
 space counts as material where the object's points are above it, as free elsewhere). The rule in
-words, next to SPEC 3: ``docs/spec_extensions.md``.
+words, next to method.md §3: ``docs/method.md``.
 """
 
 from __future__ import annotations
@@ -271,7 +271,7 @@ def surface_levels(own: np.ndarray, cell_m: float, gap_m: float) -> list[float]:
 
 def contact_height_m(height_m: float, hand: HandClearances, config: GraspConfig) -> float:
     """Height [m] above the table plane of the contact point of a top-down grasp of an object
-    ``height_m`` tall (ours): SPEC 3's box centre (``height_m / 2``), raised where the hand
+    ``height_m`` tall (ours): method.md §3's box centre (``height_m / 2``), raised where the hand
     needs it — the pads' lowest point stays ``table_clearance_m`` above the table (a 2 cm
     soap bar grasped at 1 cm put the pads on the table) and the palm stays
     ``palm_clearance_m`` above the object's top (a 20 cm bottle grasped at 10 cm put the palm
@@ -282,7 +282,7 @@ def contact_height_m(height_m: float, hand: HandClearances, config: GraspConfig)
 
 def _heights(track, own: np.ndarray, hand: HandClearances, grasp_cfg: GraspConfig,
              cfg: GraspFitConfig, band_m: float) -> list[float]:
-    """Contact heights to try: SPEC 3 / ours for the whole height; for an object whose lowest
+    """Contact heights to try: method.md §3 / ours for the whole height; for an object whose lowest
     visible point is high (lying on something), centred between that point and its top; and
     just above each lower step of its top surface (the upper part alone: a box on a box seen
     as one cluster), where the pads still overlap the part above by ``min_pad_overlap_m`` —
@@ -403,7 +403,7 @@ def box_grasp_blocked(track, cloud: SceneCloud, grasp, hand: HandClearances, gra
                       cfg: GraspFitConfig, max_width_m: float, neighbours: Optional[Neighbours] = None,
                       box_margin_m: float = 0.0, spheres: Optional[HandSpheres] = None,
                       env_grid: tuple[float, float, float] = (0.0, 0.005, 0.0)) -> str:
-    """Why SPEC 3's box ``grasp`` (``_core.BestGrasp``) of ``track`` cannot come down ('' when
+    """Why method.md §3's box ``grasp`` (``_core.BestGrasp``) of ``track`` cannot come down ('' when
     it can): the checks of the fitted lines (module doc) for the box grasp's closing line, pads
     centred on its contact point, opened to its width + margin. A finger column holding more
     than ``blocked_points`` points of anything but the object's material between the pads would

@@ -36,7 +36,7 @@ def _top_down(settings: "Settings") -> "GraspSource":
 #: name -> factory; the first is the default of ``grasp.grasp_source``
 _FACTORIES: dict[str, GraspSourceFactory] = {
     "any_side": _any_side,   # grasps from any side within the sampler's tilt limit
-    "top_down": _top_down,   # SPEC 3's top-down grasp, fitted to the perceived points
+    "top_down": _top_down,   # method.md §3's top-down grasp, fitted to the perceived points
 }
 
 

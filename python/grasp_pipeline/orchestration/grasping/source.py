@@ -10,7 +10,7 @@ motion or execution changes. The sources of the package, one module each:
 * :class:`~.any_side.AnySideGraspSource` (``grasp.grasp_source: any_side``) — grasps sampled
   on the points from any side within a tilt limit;
 * :class:`~.top_down.GeometricGraspSource` (``grasp.grasp_source: top_down``) — top-down
-  grasps fitted to the points, then SPEC 3's grasp from the target's box;
+  grasps fitted to the points, then method.md §3's grasp from the target's box;
 * :class:`~.fixed.FixedGraspSource` — a fixed list of poses (known grasps, a replay, a test).
 
 :mod:`.registry` names the ones ``grasp.grasp_source`` (``config/grasp.yaml``) may select.
@@ -32,7 +32,7 @@ class GraspRequest:
 
     ``anchor_xy``: where the user (or the default target list) pointed [m, world];
     ``target``: the selected track (``_core.Track``) or None; ``published``: the best grasp
-    the selection published for it (SPEC 5) or None; ``scene``: the perceived scene (points,
+    the selection published for it (method.md §5) or None; ``scene``: the perceived scene (points,
     boxes); ``max_width_m``: the widest object the gripper can close on with its margin;
     ``cloud``: the scene's labelled points
     (:class:`~grasp_pipeline.orchestration.scene.scene_cloud.SceneCloud`) or None;
@@ -60,7 +60,7 @@ class GraspSource(Protocol):
     """Proposes grasps for one object, best first (an empty list: no grasp).
 
     ``name`` names the source in reports. A source may also say ``top_down_only = True``
-    (it proposes only top-down grasps: the selection then keeps SPEC 2.6's width guard) and
+    (it proposes only top-down grasps: the selection then keeps method.md §2.6's width guard) and
     keep ``last_refusal``, a sentence on why its last call proposed nothing."""
 
     name: str

@@ -1,13 +1,13 @@
-"""What carries an object (ours): the support rule that extends SPEC 2.6's "resting" guard.
+"""What carries an object (ours): the support rule that extends method.md §2.6's "resting" guard.
 
-SPEC 2.6 refuses an object whose lowest *visible* point is more than ``band + resting_margin``
+method.md §2.6 refuses an object whose lowest *visible* point is more than ``band + resting_margin``
 above the table ("floating/stacked"). In clutter that refuses graspable objects: a cup or
 bottle whose lower part is hidden behind its neighbours shows only its rim or shoulder, and an
 object lying on another one in a pile is not floating. The rule here (written in words in
-``docs/spec_extensions.md``, next to SPEC 2.6) decides on the perceived points of the scene
+``docs/method.md``, next to method.md §2.6) decides on the perceived points of the scene
 (:class:`~.scene_cloud.SceneCloud`):
 
-1. An object SPEC 2.6 finds resting stays resting.
+1. An object method.md §2.6 finds resting stays resting.
 2. **Floating** means that the space under the object is seen empty: in at least
    ``see_through_fraction`` of its footprint cells (the grid cells holding its own points,
    shrunk by one cell so that edges do not count) the camera sees a surface (table or another
@@ -22,7 +22,7 @@ object lying on another one in a pile is not floating. The rule here (written in
 
 A supported object is graspable when its other guards pass (height, width); whether its
 approach is free is the grasp fitting's and the planner's question (:mod:`.fit`).
-Without points of the object in the cloud the SPEC 2.6 verdict stands.
+Without points of the object in the cloud the method.md §2.6 verdict stands.
 """
 
 from __future__ import annotations
@@ -115,7 +115,7 @@ def support_verdict(tid: int, cloud: SceneCloud, config: GraspFitConfig) -> Opti
 
 
 def judge_graspable(track, cloud: Optional[SceneCloud], config: GraspFitConfig) -> tuple[bool, list[str]]:
-    """(graspable, notes): SPEC 2.6's guards with its resting guard replaced by the support
+    """(graspable, notes): method.md §2.6's guards with its resting guard replaced by the support
     rule where the cloud allows (see the module doc). Notes explain a refusal."""
     e = track.smoothed
     notes = list(e.notes)
@@ -135,7 +135,7 @@ WIDTH_NOTE_PREFIX = "width not graspable"
 
 
 def judge_any_side(track, cloud: Optional[SceneCloud], config: GraspFitConfig) -> tuple[bool, list[str]]:
-    """(graspable, notes) for a grasp source that may approach from any side: SPEC 2.6's
+    """(graspable, notes) for a grasp source that may approach from any side: method.md §2.6's
     guards without the width guard (whether the hand fits the object from some side is the
     source's question), with the support rule where the cloud allows."""
     e = track.smoothed

@@ -2,7 +2,7 @@
 
 With the scene's points (``GraspRequest.cloud``): top-down grasps fitted to the points first
 (:mod:`.fit`: material between the pads, both fingers' descent free, the opening fits; ranked
-by clearance), ours. Then, as the last resort: SPEC 3's top-down grasp from the target's box
+by clearance), ours. Then, as the last resort: method.md §3's top-down grasp from the target's box
 (the grasp the selection publishes every frame), then closing across the other side when it
 fits; both at a contact height that fits the hand (:func:`~.fit.contact_height_m`, ours), and
 offered only when their fingers' descent is free on the points
@@ -50,7 +50,7 @@ def at_contact_height(grasp, plane, height_m: float, hand: HandClearances, confi
 
 class GeometricGraspSource:
     """Grasps fitted to the points when the request has them (:mod:`.fit`), then the
-    published SPEC 3 grasp and the perpendicular one when that side fits, each at a contact
+    published method.md §3 grasp and the perpendicular one when that side fits, each at a contact
     height that fits the hand (:func:`~.fit.contact_height_m`).
 
     ``config``: the grasp parameters (clearances); ``fit``: the point checks' parameters;
@@ -60,7 +60,7 @@ class GeometricGraspSource:
     where seen; hand spheres); None: only the points are checked."""
 
     name = "geometric"
-    #: proposes top-down grasps only: the selection keeps SPEC 2.6's width guard
+    #: proposes top-down grasps only: the selection keeps method.md §2.6's width guard
     top_down_only = True
 
     def __init__(self, config: Optional[GraspConfig] = None, hand: Optional[HandClearances] = None,
@@ -100,7 +100,7 @@ class GeometricGraspSource:
         return Neighbours(tuple(boxes), tops, self.box_margin_m + cell_rounding_m(self.points_model.cell_m))
 
     def propose(self, request: GraspRequest) -> list:
-        """Fitted grasps first, then SPEC 3's box grasps whose fingers' descent is free on the
+        """Fitted grasps first, then method.md §3's box grasps whose fingers' descent is free on the
         points (planning tries them in order: the box grasps are the last resort when no
         fitted one can be planned); none: :attr:`last_refusal` says why."""
         fitted, boxes = self.fitted(request), self.from_box(request)
@@ -135,7 +135,7 @@ class GeometricGraspSource:
         return [ln.grasp(n) for ln in ranked]
 
     def from_box(self, request: GraspRequest) -> list:
-        """SPEC 3's box grasp and the perpendicular one, at :func:`~.fit.contact_height_m`."""
+        """method.md §3's box grasp and the perpendicular one, at :func:`~.fit.contact_height_m`."""
         out = [] if request.published is None else [request.published]
         plane = request.scene.plane
         if request.target is not None and plane is not None:

@@ -1,11 +1,11 @@
-"""Active scan (SPEC 6): IDLE → ROUGH → PROBING(i) → RETURN, no way back.
+"""Active scan (method.md §6): IDLE → ROUGH → PROBING(i) → RETURN, no way back.
 
 ``ActiveScan.trigger()`` checks the refusals (camera geometry unknown; no motion planner;
 plane not locked; already scanning — saying which object i/N and stage; no objects seen),
 then answers ``"scan started: probing N objects"`` and the scan runs as a runtime task:
 ROUGH takes each track's rough centre and fixes the order (start joints are recorded at the
 trigger); upstream liveness is checked once, before the first motion; each probe moves
-the camera above object i (SPEC 3 pose, planned on the perceived scene), waits for
+the camera above object i (method.md §3 pose, planned on the perceived scene), waits for
 ``dwell_frames`` new frames, then up to ``dwell_timeout_s`` until *that* object has a NADIR
 estimate produced after arrival, and logs every track's view angle. Camera frames are
 requested for the dwell only (frames on demand): the probe motions and RETURN render

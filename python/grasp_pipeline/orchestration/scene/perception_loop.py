@@ -87,7 +87,7 @@ class PerceptionLoop:
             None if ready_camera_pose is None else np.array(ready_camera_pose, dtype=float))
         self._last_labels = ""
         self.stale_reported = False
-        #: SPEC 2.6's width guard in :meth:`judge` (off for grasp sources that approach from
+        #: method.md §2.6's width guard in :meth:`judge` (off for grasp sources that approach from
         #: any side; the composition root sets it from the source)
         self.width_guard = True
         self._elsewhere = 0  # open :meth:`looking_elsewhere` contexts
@@ -171,7 +171,7 @@ class PerceptionLoop:
         return cloud
 
     def judge(self, track) -> tuple[bool, list]:
-        """(graspable, notes) of a track: SPEC 2.6's guards with the support rule on the
+        """(graspable, notes) of a track: method.md §2.6's guards with the support rule on the
         latest scene cloud (:func:`~.support.judge_graspable`); without the width guard when
         :attr:`width_guard` is off (a grasp source that approaches from any side decides
         whether the hand fits, :func:`~.support.judge_any_side`)."""
@@ -212,7 +212,7 @@ class PerceptionLoop:
         return unseen is None or unseen > self.config.stale_timeout_s
 
     def report_if_stale(self, now_s: float) -> bool:
-        """Log once and drop the published grasp when upstream is dead (SPEC 6)."""
+        """Log once and drop the published grasp when upstream is dead (method.md §6)."""
         if not self.stale(now_s):
             return False
         if not self.stale_reported:

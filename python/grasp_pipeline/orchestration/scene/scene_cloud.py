@@ -66,7 +66,7 @@ def voxel_thin(points: np.ndarray, owner: np.ndarray, voxel_m: float) -> tuple[n
 def cloud_from_frame(result, plane, band_m: float, voxel_m: float) -> SceneCloud:
     """A :class:`SceneCloud` of one processed frame (``result``: ``FrameResult``; ``plane``:
     the locked ``_core.Plane``). Object points take the track id of their cluster's estimate;
-    environment points are kept only once the scene filter emits them (SPEC 1.5)."""
+    environment points are kept only once the scene filter emits them (method.md §1.5)."""
     labels = np.asarray(result.labels)
     pts = np.asarray(result.points, dtype=float).reshape(-1, 3)
     raw = result.raw

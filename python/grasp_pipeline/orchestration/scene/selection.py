@@ -1,4 +1,4 @@
-"""Selecting an object by position and publishing its best grasp every frame (SPEC 5).
+"""Selecting an object by position and publishing its best grasp every frame (method.md §5).
 
 ``Selector.select(x, y, ...)`` anchors a selection *by position, never by tid* (tids are
 re-issued after retirement). Refusals, each with a message: nothing seen yet; nearest
@@ -45,13 +45,13 @@ class _Check:
     clears: bool = False  # a construction failure clears the selection
 
 
-#: ``judge(track) -> (graspable, notes)``: the grasp guards of a track (default: SPEC 2.6's
+#: ``judge(track) -> (graspable, notes)``: the grasp guards of a track (default: method.md §2.6's
 #: ``grasp_ok`` and notes; the perception loop's judge adds the support rule, :mod:`.support`).
 Judge = Callable[[object], tuple[bool, list]]
 
 
 def spec_judge(track) -> tuple[bool, list]:
-    """SPEC 2.6's verdict of the track's smoothed estimate."""
+    """method.md §2.6's verdict of the track's smoothed estimate."""
     est = track.smoothed
     return bool(est.grasp_ok), list(est.notes)
 
@@ -59,10 +59,10 @@ def spec_judge(track) -> tuple[bool, list]:
 def check_selection(x: float, y: float, tracks: Sequence["_core.Track"], gate_m: Optional[float],
                     plane: Optional["_core.Plane"], fallback_limit_m: Optional[float] = None,
                     judge: Optional[Judge] = None) -> _Check:
-    """The checks of SPEC 5 for a point (x, y), in order.
+    """The checks of method.md §5 for a point (x, y), in order.
 
     The distance limit is 2 × gate; when the gate is undefined (fewer than two objects in
-    the last frame) SPEC sets no limit — here ``fallback_limit_m`` applies instead (ours:
+    the last frame) method.md §5 sets no limit — here ``fallback_limit_m`` applies instead (ours:
     a click far from the only object must not select it). ``judge``: the guards (default
     :func:`spec_judge`)."""
     if not tracks or plane is None:
@@ -86,7 +86,7 @@ def check_selection(x: float, y: float, tracks: Sequence["_core.Track"], gate_m:
 def perpendicular_grasp(track, plane, max_width_m: float):
     """The 90°-rotated top-down grasp (closing across the other side), or None.
 
-    A square has two equivalent closing directions (SPEC 2.3); for any footprint, when the
+    A square has two equivalent closing directions (method.md §2.3); for any footprint, when the
     preferred (narrow-side) grasp cannot be planned — a neighbour blocks the hand — closing
     across the other side is the next best grasp (ours). Offered only when that side fits
     the gripper with its opening margin: ``perp_width ≤ max_width_m``."""
@@ -107,10 +107,10 @@ def perpendicular_grasp(track, plane, max_width_m: float):
 
 @dataclass
 class Selector:
-    """Holds the anchor and publishes best grasps (SPEC 5)."""
+    """Holds the anchor and publishes best grasps (method.md §5)."""
 
     fallback_limit_m: Optional[float] = None  # distance limit while the gate is undefined
-    judge: Optional[Judge] = None  # the grasp guards of a track (None: SPEC 2.6's)
+    judge: Optional[Judge] = None  # the grasp guards of a track (None: method.md §2.6's)
     anchor: Optional[tuple[float, float]] = None
     best_grasp: Optional["_core.BestGrasp"] = None
     best_grasp_time_s: Optional[float] = None

@@ -51,7 +51,7 @@ def default_targets(tracks, cell: WorkCell, fixture_margin_m: float,
     """(targets (x, y) nearest the base first, skipped tracks with ``tid``/``center``/``why``).
 
     ``rough_tids``: the tracks of the rough view (the objects the scan set out to measure);
-    ``judge(track) -> (graspable, notes)``: the grasp guards (default: SPEC 2.6's)."""
+    ``judge(track) -> (graspable, notes)``: the grasp guards (default: method.md §2.6's)."""
     targets, skipped = [], []
     for t in tracks:
         c = np.asarray(t.smoothed.center[:2], float)

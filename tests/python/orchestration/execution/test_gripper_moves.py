@@ -1,4 +1,4 @@
-"""Closing until the fingers stall (SPEC 7, and the still-gap rule of ours)."""
+"""Closing until the fingers stall (method.md §7, and the still-gap rule of ours)."""
 
 from __future__ import annotations
 
@@ -58,7 +58,7 @@ def _close(gripper: ScriptedGripper, width_m: float, config: GraspConfig):
 
 def test_a_still_gap_with_a_chattering_speed_reading_is_a_stall():
     """Measured in packed `vgn` (MuesliBars, Patches): the gap stood within 0.1 mm at 40 N for
-    8 s while the speed reading jumped to 3-6 mm/s a few times a second; SPEC 7's speed rule
+    8 s while the speed reading jumped to 3-6 mm/s a few times a second; method.md §7's speed rule
     alone never saw 0.5 s of slow readings and the close timed out."""
     cfg = GraspConfig()
     g = ScriptedGripper(object_m=0.0127, chatter_mps=0.006, chatter_every=100)
@@ -86,7 +86,7 @@ def test_a_gap_that_keeps_moving_beyond_the_band_is_no_stall():
 
 
 def test_a_clean_stall_is_seen_by_the_speed_rule_at_the_same_time_as_before():
-    """Without chatter: stalled ``stall_time_s`` after the contact, as SPEC 7 says (the
+    """Without chatter: stalled ``stall_time_s`` after the contact, as method.md §7 says (the
     still-gap rule may fire a few steps sooner: the gap's last 0.5 mm of travel before the
     contact takes 6 ms at 80 mm/s)."""
     cfg = GraspConfig()

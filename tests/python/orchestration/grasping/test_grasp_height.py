@@ -1,5 +1,5 @@
 """The contact height of top-down grasps (ours): the pads stay above the table for low objects,
-the palm above the object for tall ones; in between SPEC 3's box centre."""
+the palm above the object for tall ones; in between method.md §3's box centre."""
 
 from types import SimpleNamespace
 
@@ -36,7 +36,7 @@ def test_hand_clearances_come_from_the_model():
 
 
 @pytest.mark.parametrize("height_m, expected_m", [
-    (0.05, 0.025),                     # a 5 cm cube: the box centre (SPEC 3)
+    (0.05, 0.025),                     # a 5 cm cube: the box centre (method.md §3)
     (0.02, 0.011 + 0.004),             # a 2 cm soap bar: pads 4 mm above the table
     (0.20, 0.20 + 0.01 - 0.0394),      # a 20 cm bottle: palm 10 mm above its top
 ])

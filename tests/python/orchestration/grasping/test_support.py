@@ -1,4 +1,4 @@
-"""The support rule (docs/spec_extensions.md, extends SPEC 2.6) on small synthetic clouds."""
+"""The support rule (docs/method.md, extends method.md §2.6) on small synthetic clouds."""
 
 import numpy as np
 

@@ -1,4 +1,4 @@
-"""SPEC 5 selection on real core tracks (synthetic clusters, no simulator)."""
+"""method.md §5 selection on real core tracks (synthetic clusters, no simulator)."""
 
 import logging
 
@@ -48,7 +48,7 @@ def test_far_selection_is_refused_and_keeps_the_previous_one():
 def test_single_object_uses_the_fallback_limit():
     tr = tracker_with(cube_points(0.5, 0.0))
     assert tr.last_gate is None
-    assert Selector().select(1.5, 1.5, tr.tracks, None, PLANE).ok  # SPEC alone: no limit
+    assert Selector().select(1.5, 1.5, tr.tracks, None, PLANE).ok  # method.md §5 alone: no limit
     res = Selector(fallback_limit_m=0.1).select(1.5, 1.5, tr.tracks, None, PLANE)
     assert not res.ok and "limit 100 mm" in res.message
 
