@@ -1,4 +1,4 @@
-// (issue 12) A segment nested in another one across a sloped surface joins it
+// A segment nested in another one across a sloped surface joins it
 // (grasp_core::join_nested_segments through organized_components): a bottle's cap and shoulder
 // seen from above become one segment; a box on a larger box stays two.
 #include <gtest/gtest.h>

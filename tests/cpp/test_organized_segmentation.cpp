@@ -1,4 +1,4 @@
-// (issue 12) Organized segmentation of the candidates (grasp_core::organized_components)
+// Organized segmentation of the candidates (grasp_core::organized_components)
 // and the range-dependent minimum height of clusters_from_components.
 #include <gtest/gtest.h>
 

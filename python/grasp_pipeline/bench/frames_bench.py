@@ -25,7 +25,7 @@ from ..report.serialize import write_json
 from .grasp_bench import run_grasp_benchmark, strip_timings
 from .workers_bench import _differences
 
-#: The issue's target: on-demand throughput at least this many times the old path's.
+#: The target: on-demand throughput at least this many times the old path's.
 SPEEDUP_TARGET = 5.0
 #: The two paths, in the order they run.
 MODES = ("continuous", "on_demand")

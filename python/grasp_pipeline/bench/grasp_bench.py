@@ -59,7 +59,7 @@ ACCURACY_METRICS = {"center_mm": "center_err_mm", "width_mm": "width_err_mm",
 TIMING_KEYS = ("wall_time_s", "scenes_per_minute", "time_per_scene_s", "time_per_object_s",
                "time_per_stage_s", "timings", "wall_s", "real_time_factor", "cpu_time_per_scene_s",
                "cpu_real_time_factor", "scenes_per_minute_idle_cores")
-#: The issue's targets: name → (JSON path, comparison, value).
+#: The targets: name → (JSON path, comparison, value).
 TARGETS = {
     "pick success": (("success_rate",), ">=", 0.95),
     "NADIR centre median [mm]": (("accuracy", "center_mm", "median"), "<=", 2.0),

@@ -12,7 +12,7 @@ Then, unless ``pick_scene`` is None, one pick-loop round (:mod:`.pick_loop_bench
 seed 3 of the built-in objects) with its simulated seconds per CPU second and the CPU
 breakdown physics / render / perception / planning / control / other (``pick_loop``).
 
-Targets (issue): physics >= 20x real time, with the camera >= 1x, on one core. The camera's
+Targets: physics >= 20x real time, with the camera >= 1x, on one core. The camera's
 backend (egl / osmesa / raycast) is part of the result.
 
 Both factors are wall-clock based; ``*cpu_real_time_factor`` divide by the process's CPU time

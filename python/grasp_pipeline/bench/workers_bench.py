@@ -17,7 +17,7 @@ from typing import Any, Optional
 from ..report.serialize import write_json
 from .grasp_bench import run_grasp_benchmark, strip_timings
 
-#: The issue's target: ``--workers 2`` at least this much faster than ``--workers 1``.
+#: The target: ``--workers 2`` at least this much faster than ``--workers 1``.
 SPEEDUP_TARGET = 1.6
 
 

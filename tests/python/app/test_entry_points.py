@@ -170,7 +170,7 @@ def test_bad_input_gives_a_one_line_error(args, words, work):
 
 
 def test_perceive_workspace_options_drop_far_points_and_far_noise(work):
-    """Issue 12: ``--max-range-m`` and ``--crop`` on a real-capture-like floor cloud (near
+    """``--max-range-m`` and ``--crop`` on a real-capture-like floor cloud (near
     objects, far noise patches), run as a user runs them."""
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "core"))
     from real_capture_like import CAMERA, NEAR_BOXES, floor_capture

@@ -1,4 +1,4 @@
-"""Issue 12's grasping scenes, simulated end to end (real MuJoCo physics, OMPL, TOPP-RA):
+"""Grasping scenes of neighbours and fitted grasps, simulated end to end (real MuJoCo physics, OMPL, TOPP-RA):
 an L-shaped block is grasped on its material, a mug across its body, and the top box of a
 stack — all three refused or missed by the box-only grasp and method.md §2.6's floating rule."""
 

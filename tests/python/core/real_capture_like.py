@@ -1,4 +1,4 @@
-"""A real-capture-like synthetic cloud (issue 12): a floor seen 3 m deep by a camera 0.8 m
+"""A real-capture-like synthetic cloud: a floor seen 3 m deep by a camera 0.8 m
 above it, a few real objects near the camera and, 1.6-2.1 m away, patches where the depth
 noise is spatially correlated and lifts the floor by 11-13 mm (what a real capture reported
 as 7 graspable "objects"). On top, independent per-point noise along the ray growing with the

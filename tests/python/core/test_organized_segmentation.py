@@ -1,4 +1,4 @@
-"""Issue 12: segmentation of neighbouring and touching objects in organized RGB-D frames
+"""Segmentation of neighbouring and touching objects in organized RGB-D frames
 (``scene_filter.segment_*``, cpp organized_segmentation), and the range-dependent minimum
 object height. Synthetic frames from :mod:`grasp_pipeline.perception.synthetic` (ray-cast,
 depth noise along the ray)."""
@@ -144,7 +144,7 @@ def test_real_capture_like_cloud_reports_the_near_objects_and_no_far_noise():
     for (c, _) in NEAR_BOXES:
         assert min(np.linalg.norm(e.center[:2] - c) for e in fr.estimates) < 0.01
     assert fr.raw.filter.num_too_low >= len(FAR_PATCH_CENTRES) - 1
-    # Without the rule the far noise is reported as objects (what the issue measured).
+    # Without the rule the far noise is reported as objects (as measured before the rule existed).
     off = PerceptionSession(SceneFilterConfig(object_min_height_sigmas=0.0)).process(pts, CAMERA, 0.0)
     far = [e for e in off.estimates if np.linalg.norm(e.center[:2]) > 1.5]
     assert len(far) >= 3
