@@ -15,8 +15,8 @@ camera frame (or any frame) given by the file; the user says where ``world`` is:
   camera).
 
 Exactly one frame is processed with :class:`~grasp_pipeline.perception.PerceptionSession`:
-the plane persistence locks on the first fit (method.md §1.5: "No lock yet: first fit becomes
-lock"), so one ``process`` call yields the plane and every object's estimate. The camera
+the plane persistence locks on the first fit (method.md §1.5: with no lock yet, the first fit
+becomes the lock), so one ``process`` call yields the plane and every object's estimate. The camera
 position used for the view quality (NADIR / OBLIQUE) is the translation of T_world_camera.
 
 Outputs: a human-readable summary on stdout, the JSON report ``--json`` and optionally the

@@ -1,4 +1,4 @@
-// Parameter sets of the perception core, with the names and defaults of docs/method.md.
+// Parameter sets of the perception core, with the names and defaults of docs/method.md §1.6 and §2.7.
 //
 // SceneFilterParams = method.md §1.6, ObbParams = the perception part of method.md §2.7
 // (estimate, guards and tracker). The Python side loads them from

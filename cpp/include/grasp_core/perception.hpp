@@ -1,4 +1,4 @@
-// The per-frame entry point (DESIGN "one call into C++ per frame"): scene filter ->
+// The per-frame entry point (one call into C++ per frame, docs/method.md §0): scene filter ->
 // two-pass estimates -> view quality -> tracker. Python makes one call per camera frame.
 #pragma once
 

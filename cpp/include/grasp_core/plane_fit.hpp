@@ -34,8 +34,8 @@ struct PlaneFit {
 ///   shuffle of the index list). Collinear samples (|(p2-p1)x(p3-p1)| below PCL's float
 ///   precision, 1e-5 m^2) are discarded by PCL and redrawn; they do not count as iterations.
 /// - Tilt: PCL's perpendicular-plane model rejects a model whose normal is more than
-///   plane_max_tilt_deg from +/-z, which is the rule of method.md §1.1 "flip n so n_z >= 0, discard if
-///   n_z < cos(tilt)". Such a model counts as an iteration with score 0.
+///   plane_max_tilt_deg from +/-z, which is the rule of method.md §1.1 (n turned to n_z >= 0,
+///   discarded if n_z < cos(tilt)). Such a model counts as an iteration with score 0.
 /// - Iterations: exactly plane_ransac_iters scored models. PCL's adaptive early
 ///   termination is switched off (probability 1 => k = +inf) and PCL's off-by-one
 ///   (`iterations > max_iterations` test) is compensated. If samples keep failing PCL

@@ -162,8 +162,8 @@ class DeclutterConfig:
 
 @dataclass(frozen=True)
 class GraspFitConfig:
-    """Grasps fitted to the perceived points and the support rule (ours; extends method.md §2.6 and
-    3, see ``docs/method.md``)."""
+    """Grasps fitted to the perceived points and the support rule (ours; docs/method.md §3.2 and
+    §2.8, extending method.md §3 and §2.6)."""
 
     cloud_voxel_m: float = 0.003
     support_gap_m: float = 0.015

@@ -1,7 +1,7 @@
 """Typed parameter sets of the perception core (method.md §1.6 and 2.7).
 
-Field names and defaults are docs/method.md's; the YAML files are ``config/scene_filter.yaml``
-and ``config/obb.yaml``.
+Field names and defaults are those of docs/method.md §1.6 and §2.7; the YAML files are
+``config/scene_filter.yaml`` and ``config/obb.yaml``.
 
 Every value is checked here, in Python, before it reaches C++ (at construction, in
 ``__post_init__``, and again by ``validate()``): its type (a bool for a switch, an integer

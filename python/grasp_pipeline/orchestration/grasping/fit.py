@@ -41,7 +41,7 @@ line's own frame (``c`` along the closing axis, ``a`` across it, ``h`` above the
 
 The 2.5-D assumption: what is seen from above extends down to what is under it (occluded
 space counts as material where the object's points are above it, as free elsewhere). The rule in
-words, next to method.md §3: ``docs/method.md``.
+words: docs/method.md §3.2.
 """
 
 from __future__ import annotations

@@ -4,7 +4,7 @@ method.md §2.6 refuses an object whose lowest *visible* point is more than ``ba
 above the table ("floating/stacked"). In clutter that refuses graspable objects: a cup or
 bottle whose lower part is hidden behind its neighbours shows only its rim or shoulder, and an
 object lying on another one in a pile is not floating. The rule here (written in words in
-``docs/method.md``, next to method.md §2.6) decides on the perceived points of the scene
+docs/method.md §2.8, next to method.md §2.6) decides on the perceived points of the scene
 (:class:`~.scene_cloud.SceneCloud`):
 
 1. An object method.md §2.6 finds resting stays resting.

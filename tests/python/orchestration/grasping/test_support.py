@@ -1,4 +1,4 @@
-"""The support rule (docs/method.md, extends method.md §2.6) on small synthetic clouds."""
+"""The support rule (docs/method.md §2.8, extends method.md §2.6) on small synthetic clouds."""
 
 import numpy as np
 
