@@ -110,8 +110,8 @@ def test_types_are_checked_with_the_range():
             check_ranges(Demo(**kwargs), "demo")
 
 
-def test_the_shared_gripper_opening_is_the_robot_description_s():
-    from grasp_pipeline.config_ranges import GRIPPER_OPENING_M
-    from grasp_pipeline.robot.description import GRIPPER_MAX_WIDTH_M  # (imports MuJoCo: not in config_ranges)
+def test_the_shared_opening_and_force_bounds_are_the_robot_s_published_figures():
+    from grasp_pipeline.config_ranges import FORCE_N, OPENING_M
+    from grasp_pipeline.robot.limits import GRIPPER_MAX_FORCE_N, GRIPPER_MAX_WIDTH_M
 
-    assert GRIPPER_OPENING_M == GRIPPER_MAX_WIDTH_M
+    assert (OPENING_M.hi, FORCE_N.hi) == (GRIPPER_MAX_WIDTH_M, GRIPPER_MAX_FORCE_N)
