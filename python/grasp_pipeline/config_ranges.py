@@ -11,8 +11,9 @@ lengths) stay in each set's ``validate()``. The defaults live in the YAML files 
 never holds one.
 
 The physical limits several parameters share are named here once — the arm's reach, the
-gripper's opening and force, the longest wait, the finest grid step — so every height of the
-grasp, every opening, every timeout has the same bound.
+gripper's opening and force (the robot's published figures, :mod:`grasp_pipeline.robot.limits`),
+the longest wait, the finest grid step — so every height of the grasp, every opening, every
+timeout has the same bound.
 """
 
 from __future__ import annotations
@@ -28,13 +29,10 @@ import numpy as np
 
 from .exceptions import ConfigError
 from .messages import brief
+from .robot.limits import GRIPPER_MAX_FORCE_N, GRIPPER_MAX_WIDTH_M
 
 #: The Franka Panda reaches 0.855 m: no height, distance or motion of the work cell is longer.
 REACH_M = 1.0
-#: The Franka Hand's largest finger gap [m] (as robot/description.py's GRIPPER_MAX_WIDTH_M).
-GRIPPER_OPENING_M = 0.08
-#: The Franka Hand's largest grasping force [N] (70 N continuous).
-GRIPPER_FORCE_N = 140.0
 #: The longest wait or time limit of one step [s] (simulated or wall-clock).
 LONGEST_WAIT_S = 3600.0
 #: The finest grid or interpolation step [m]: finer ones make huge grids and paths.
@@ -103,10 +101,10 @@ def count(lo: int, hi: int, unit: str = "") -> Range:
 FRACTION = Range(0.0, 1.0)
 #: A share that must be positive: (0, 1].
 POSITIVE_FRACTION = Range(0.0, 1.0, lo_open=True)
-#: A finger opening, gap or width: [0, GRIPPER_OPENING_M] m.
-OPENING_M = Range(0.0, GRIPPER_OPENING_M, unit=" m")
-#: A grasping force: (0, GRIPPER_FORCE_N] N.
-FORCE_N = Range(0.0, GRIPPER_FORCE_N, lo_open=True, unit=" N")
+#: A finger opening, gap or width: [0, the hand's largest opening] m (robot/limits.py).
+OPENING_M = Range(0.0, GRIPPER_MAX_WIDTH_M, unit=" m")
+#: A grasping force: (0, the hand's largest force] N (robot/limits.py).
+FORCE_N = Range(0.0, GRIPPER_MAX_FORCE_N, lo_open=True, unit=" N")
 #: A sample or frame rate: (0, 1000] Hz.
 RATE_HZ = Range(0.0, 1000.0, lo_open=True, unit=" Hz")
 #: A coordinate of the work cell (robot base frame): [-REACH_M, REACH_M] m (and a bit of floor).
@@ -198,3 +196,8 @@ def require(ok: bool, section: str, name: str, value: Any, expected: str) -> Non
     expected <expected>`` unless ``ok``."""
     if not ok:
         raise ConfigError(f"{section}.{name} = {brief(value)} is out of range: expected {expected}")
+
+
+def require_min_max(section: str, name: str, pair: Any) -> None:
+    """A ``[min, max]`` pair (each item's range is declared in ``RANGES``): two items, min <= max."""
+    require(len(pair) == 2 and pair[0] <= pair[1], section, name, list(pair), "[min, max] with min <= max")

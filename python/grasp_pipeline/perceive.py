@@ -252,13 +252,14 @@ def run_perceive(path: str | os.PathLike, *, T_world_camera: Sequence | None = N
 
     T, frame_source = _world_transform(T_world_camera, up)
     sets = list(sets) + _workspace_sets(max_range_m, crop)
-    settings = load_settings(("scene_filter", "obb", "workspace"), config_file, sets)
+    settings = load_settings(("scene_filter", "obb", "workspace", "depth_noise"), config_file, sets)
     check_writable(json_path, "report file (--json)")
     if png_path is not None:
         check_writable(png_path, "snapshot (--png)")
     cloud, t_load = _load(path)
     pts_world = (cloud.points.astype(np.float64) @ T[:3, :3].T + T[:3, 3]).astype(np.float32)
-    session = PerceptionSession(settings.scene_filter, settings.obb, settings.workspace)
+    session = PerceptionSession(settings.scene_filter, settings.obb, settings.workspace,
+                                settings.depth_noise)
     t1 = time.perf_counter()
     # Files go through Euclidean clustering (method.md §1.4), also organized ones: the organized
     # segmentation needs the true camera position, which a file's transform may not give, and

@@ -32,6 +32,7 @@ SECTIONS: Mapping[str, tuple[str, str]] = MappingProxyType({
     "workspace": ("grasp_pipeline.perception.workspace", "WorkspaceConfig"),
     "volume": ("grasp_pipeline.perception.volume_config", "VolumeConfig"),
     "camera": ("grasp_pipeline.sim.config", "CameraConfig"),
+    "depth_noise": ("grasp_pipeline.robot.depth_noise", "DepthNoiseConfig"),
     "sim": ("grasp_pipeline.sim.config", "SimConfig"),
     "clutter": ("grasp_pipeline.sim.clutter_config", "ClutterConfig"),
     "motion": ("grasp_pipeline.motion.config", "MotionConfig"),

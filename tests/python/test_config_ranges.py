@@ -4,7 +4,11 @@ beyond any bound (each bound of each parameter is tried) is a one-line ConfigErr
 
 from __future__ import annotations
 
+import ast
 import dataclasses
+import inspect
+import textwrap
+from typing import Mapping
 
 import pytest
 
@@ -110,8 +114,115 @@ def test_types_are_checked_with_the_range():
             check_ranges(Demo(**kwargs), "demo")
 
 
-def test_the_shared_gripper_opening_is_the_robot_description_s():
-    from grasp_pipeline.config_ranges import GRIPPER_OPENING_M
-    from grasp_pipeline.robot.description import GRIPPER_MAX_WIDTH_M  # (imports MuJoCo: not in config_ranges)
+def test_the_shared_opening_and_force_bounds_are_the_robot_s_published_figures():
+    from grasp_pipeline.config_ranges import FORCE_N, OPENING_M
+    from grasp_pipeline.robot.limits import GRIPPER_MAX_FORCE_N, GRIPPER_MAX_WIDTH_M
 
-    assert GRIPPER_OPENING_M == GRIPPER_MAX_WIDTH_M
+    assert (OPENING_M.hi, FORCE_N.hi) == (GRIPPER_MAX_WIDTH_M, GRIPPER_MAX_FORCE_N)
+
+
+# ----------------------------------------------------------------------------- one validator
+#: The shared validator's functions: a config module calls them, it does not wrap them.
+SHARED = {"check_ranges", "require", "require_min_max"}
+
+
+def _is_number(node: ast.AST) -> bool:
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
+        node = node.operand
+    return isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) \
+        and not isinstance(node.value, bool)
+
+
+def _is_field(node: ast.AST) -> bool:
+    return isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and node.value.id == "self"
+
+
+def _calls(node: ast.AST) -> set:
+    return {n.func.id for n in ast.walk(node) if isinstance(n, ast.Call) and isinstance(n.func, ast.Name)}
+
+
+def own_range_helpers(module_source: str) -> list:
+    """Module-level functions of a config module that check values themselves: they wrap the
+    shared validator or compare with numbers (a range of its own)."""
+    out = []
+    for node in ast.parse(module_source).body:
+        if isinstance(node, ast.FunctionDef):
+            numbers = [c for c in ast.walk(node) if isinstance(c, ast.Compare)
+                       and any(_is_number(x) for x in [c.left, *c.comparators])]
+            if _calls(node) & SHARED or numbers:
+                out.append(node.name)
+    return out
+
+
+def bounds_outside_ranges(class_source: str) -> list:
+    """Comparisons of a parameter with a number in ``validate`` (and the ``_validate*`` methods
+    it calls): a bound that belongs in ``RANGES``. A comparison that is one alternative of an
+    ``or``/``and`` (``x <= 0 or x >= y``: 0 switches a rule off) is a rule between values."""
+    cls = ast.parse(textwrap.dedent(class_source)).body[0]
+    in_boolop = {id(v) for n in ast.walk(cls) if isinstance(n, ast.BoolOp) for v in n.values}
+    out = []
+    for fn in cls.body:
+        if not (isinstance(fn, ast.FunctionDef) and fn.name.startswith(("validate", "_validate"))):
+            continue
+        for c in ast.walk(fn):
+            if isinstance(c, ast.Compare) and id(c) not in in_boolop:
+                ops = [c.left, *c.comparators]
+                if all(_is_field(x) or _is_number(x) for x in ops) and any(map(_is_number, ops)) \
+                        and any(map(_is_field, ops)):
+                    out.append(f"{fn.name}: {ast.unparse(c)}")
+    return out
+
+
+def validates_with_the_shared_checker(class_source: str, section: str) -> bool:
+    """``validate()`` starts with ``check_ranges(self, "<section>")`` (after its docstring)."""
+    cls = ast.parse(textwrap.dedent(class_source)).body[0]
+    fn = next((f for f in cls.body if isinstance(f, ast.FunctionDef) and f.name == "validate"), None)
+    if fn is None:
+        return False
+    body = [b for b in fn.body if not (isinstance(b, ast.Expr) and isinstance(b.value, ast.Constant))]
+    first = body[0].value if body and isinstance(body[0], ast.Expr) else None
+    return (isinstance(first, ast.Call) and isinstance(first.func, ast.Name) and first.func.id == "check_ranges"
+            and len(first.args) == 2 and isinstance(first.args[0], ast.Name) and first.args[0].id == "self"
+            and isinstance(first.args[1], ast.Constant) and first.args[1].value == section)
+
+
+@pytest.mark.parametrize("section", sorted(SECTIONS))
+def test_every_set_checks_its_ranges_with_the_one_shared_validator(section):
+    cls = section_class(section)
+    assert isinstance(cls.__dict__.get("RANGES"), Mapping), f"{section}: no RANGES declared"
+    assert validates_with_the_shared_checker(inspect.getsource(cls), section), \
+        f"{section}: validate() must start with check_ranges(self, {section!r})"
+    assert bounds_outside_ranges(inspect.getsource(cls)) == [], f"{section}: bounds belong in RANGES"
+    assert own_range_helpers(inspect.getsource(inspect.getmodule(cls))) == [], \
+        f"{section}: use config_ranges' require / require_min_max, not a helper of its own"
+
+
+def test_the_checks_of_the_shared_validator_rule_can_fail():
+    module = textwrap.dedent("""
+        def _require(ok, name, value, expected):
+            require(ok, "demo", name, value, expected)
+
+        def _positive(x):
+            return x > 0
+
+        def synonyms(pairs):
+            return dict(p.split("=") for p in pairs)
+        """)
+    assert own_range_helpers(module) == ["_require", "_positive"]
+    cls = textwrap.dedent("""
+        class Demo:
+            RANGES = {}
+
+            def validate(self):
+                check_ranges(self, "other")
+                _require(0.001 <= self.voxel_m <= 0.1, "voxel_m", self.voxel_m, "[0.001, 0.1] m")
+                require(self.max_extent <= 0 or self.max_extent >= self.min_extent, "demo", "x", 1, "")
+                self._validate_more()
+
+            def _validate_more(self):
+                require(self.frames >= 1, "demo", "frames", self.frames, ">= 1")
+        """)
+    assert bounds_outside_ranges(cls) == ["validate: 0.001 <= self.voxel_m <= 0.1",
+                                          "_validate_more: self.frames >= 1"]
+    assert not validates_with_the_shared_checker(cls, "demo")
+    assert validates_with_the_shared_checker(cls, "other")

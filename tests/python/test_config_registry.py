@@ -38,6 +38,36 @@ def test_cpp_defaults_equal_the_yaml_defaults(section, core_cls):
         assert _same(getattr(core, name), value), f"{section}.{name}: C++ {getattr(core, name)!r} vs yaml {value!r}"
 
 
+def test_cpp_defaults_of_the_filled_in_facts_equal_their_one_definition():
+    from grasp_pipeline.robot.limits import GRIPPER_MAX_WIDTH_M
+
+    noise = read_yaml(default_config_dir() / "depth_noise.yaml")
+    sf, obb = _core.SceneFilterParams(), _core.ObbParams()
+    assert sf.depth_noise_sigma_m == obb.depth_noise_sigma == noise["depth_noise_sigma_m"]
+    assert sf.depth_noise_ref_range_m == noise["depth_noise_ref_range_m"]
+    assert sf.depth_noise_exponent == noise["depth_noise_exponent"]
+    assert obb.gripper_open == GRIPPER_MAX_WIDTH_M
+
+
+#: Facts with one definition: the set that owns them (None: the robot's published figures,
+#: robot/limits.py) and the name stems a parameter for them would have. No other set may hold one.
+ONE_DEFINITION = {
+    "the depth sensor's noise": ("depth_noise", ("noise_sigma", "noise_ref_range", "noise_exponent")),
+    "the hand's largest opening": (None, ("gripper_open", "gripper_max_width")),
+    "the hand's largest force": (None, ("gripper_max_effort", "gripper_max_force")),
+}
+
+
+def test_facts_with_one_definition_are_parameters_of_no_other_set():
+    offenders = []
+    for section in SECTIONS:
+        for f in dataclasses.fields(section_class(section)):
+            for fact, (owner, stems) in ONE_DEFINITION.items():
+                if section != owner and any(stem in f.name for stem in stems):
+                    offenders.append(f"{section}.{f.name} ({fact})")
+    assert offenders == []
+
+
 #: Names that mean different things in different sets (set them as section.name).
 DISTINCT_MEANINGS = {"seed": ["scene_filter", "camera"]}  # RANSAC sampling vs depth noise
 

@@ -8,22 +8,23 @@ from typing import Optional
 
 import numpy as np
 
-from ..exceptions import ConfigError, InputError
+from ..exceptions import InputError
 from ..motion.motion_planner import MotionPlanner
 from ..motion.work_cell import WorkCell
 from ..orchestration import (ActiveScan, EventBus, GraspAction, MotionClient, PerceptionLoop,
                              Runtime)
+from ..orchestration.grasping.opening import max_grasp_width_m
 from ..orchestration.scanning.side_view import SideView
 from ..perception import PerceptionSession
 from ..perception.scene_volume import SceneVolume
-from ..robot.description import GRIPPER_MAX_WIDTH_M, flange_T_camera
+from ..robot.description import flange_T_camera
 from ..settings import Settings
 from ..sim.scene_spec import SceneSpec
 from ..sim.scenes import random_scene, reference_scene
 from ..sim.world import SimWorld
 
 #: The parameter sets a simulated run uses.
-SECTIONS = ("scene_filter", "obb", "camera", "sim", "clutter", "motion", "scan", "grasp", "place",
+SECTIONS = ("scene_filter", "obb", "camera", "depth_noise", "sim", "clutter", "motion", "scan", "grasp", "place",
             "grasp_fit", "grasp_sampler", "declutter", "video", "language", "rerun", "volume")
 
 
@@ -78,12 +79,10 @@ def build_system(spec, settings: Settings, events: EventBus | None = None, robot
     ``work_cell`` and ``close()``, e.g. a learning environment's adapter) instead of a new
     ``SimWorld`` of ``spec``."""
     events = events if events is not None else EventBus()
-    if settings.obb.gripper_open > GRIPPER_MAX_WIDTH_M + 1e-9:
-        raise ConfigError(f"obb.gripper_open = {settings.obb.gripper_open} m exceeds the gripper's "
-                          f"opening ({GRIPPER_MAX_WIDTH_M} m, robot description)")
-    world = robot if robot is not None else SimWorld(spec, settings.sim, settings.camera)
+    world = robot if robot is not None else SimWorld(spec, settings.sim, settings.camera,
+                                                     depth_noise=settings.depth_noise)
     try:
-        session = PerceptionSession(settings.scene_filter, settings.obb)
+        session = PerceptionSession(settings.scene_filter, settings.obb, depth_noise=settings.depth_noise)
         loop = PerceptionLoop(session, settings.scan, ready_camera_pose=world.camera_pose(),
                               events=events, camera=world, fit_config=settings.grasp_fit,
                               volume=SceneVolume(settings.volume))
@@ -93,7 +92,7 @@ def build_system(spec, settings: Settings, events: EventBus | None = None, robot
         motion = MotionClient(world, MotionPlanner(settings.motion), cell.fixtures, events)
         start_q = np.asarray(world.q, float).copy()
         scanner = ActiveScan(rt, loop, motion, flange_T_camera(world.model), settings.scan,
-                             max_width_m=settings.obb.gripper_open - settings.grasp_fit.min_open_margin_m)
+                             max_width_m=max_grasp_width_m(settings.grasp_fit))
         action = GraspAction(rt, loop, motion, settings.grasp, work_cell=cell, home_q=start_q,
                              events=events, place_config=settings.place)
         side_view = SideView(rt, loop, motion, flange_T_camera(world.model), settings.volume,

@@ -24,6 +24,7 @@ from tqdm import tqdm
 
 from .. import _core
 from ..perception.config import ObbConfig, SceneFilterConfig
+from ..robot.depth_noise import DepthNoiseConfig
 from ..report.serialize import write_json
 from ..perception.synthetic import PinholeCamera, tabletop_frame
 
@@ -124,7 +125,8 @@ def run_perception_benchmark(frames: int = 50, json_path: str | Path | None = No
         raise ValueError("frames: expected at least 1")
     sf_cfg, obb_cfg = SceneFilterConfig(), ObbConfig()
     clouds = [tabletop_frame(seed=s) for s in range(DISTINCT_FRAMES)]
-    per = _core.Perception(sf_cfg.to_core(), obb_cfg.to_core())
+    noise = DepthNoiseConfig()
+    per = _core.Perception(sf_cfg.to_core(noise), obb_cfg.to_core(noise))
     with one_core() as cpu:
         totals, parts, n_objects = _time_frames(per, clouds, frames, warmup_frames)
         baseline, baseline_note = _time_baseline(clouds, sf_cfg, baseline_frames)

@@ -29,6 +29,7 @@ from .. import _core
 from ..motion.exceptions import ExecutionError, MotionError
 from ..orchestration import GeometricGraspSource, GraspRequest, default_targets
 from ..orchestration.execution.grasp_planning import plan_grasp
+from ..orchestration.grasping.opening import max_grasp_width_m
 from ..orchestration.scene.scene_model import snapshot
 from ..orchestration.scene.tracks import nearest_track
 from ..results import MotionRecord
@@ -104,7 +105,7 @@ def _grasp_motions(system, rec: _Recorder, track, settings) -> None:
     published = _core.best_grasp_from_estimate(track.smoothed, loop.plane)
     scene = snapshot(loop)
     req = GraspRequest((float(track.smoothed.center[0]), float(track.smoothed.center[1])), track,
-                       published, scene, settings.obb.gripper_open - cfg.open_margin_m)
+                       published, scene, max_grasp_width_m(settings.grasp_fit))
     motion.set_scene(scene.without_fragments(track.tid, cfg.fragment_margin_m), track.tid)
     t0, c0 = time.perf_counter(), time.thread_time()
     try:

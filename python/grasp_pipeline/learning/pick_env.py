@@ -127,7 +127,7 @@ class PickPlaceEnv(gym.Env):
         s = self.settings
         spec = make_scene(self.protocol, scene_seed, s, self.object_models())
         target, task = self._target(spec, scene_seed, target_name, choose_target)
-        world = SimWorld(spec, s.sim, s.camera)
+        world = SimWorld(spec, s.sim, s.camera, depth_noise=s.depth_noise)
         try:
             self.interface = ControlInterface(world, s.record, self.depth)
             self.outcome = TargetOutcome(world, target.name, s.env.rest_speed_mps,

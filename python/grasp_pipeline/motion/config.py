@@ -66,6 +66,12 @@ class MotionConfig:
     ik_accept_position_m: float = 1e-6
     ik_accept_orientation_rad: float = 1e-6
     ik_duplicate_tol_rad: float = 1e-4
+    ik_dls_iterations: int = 200
+    ik_dls_damping_early: float = 0.05
+    ik_dls_damping_late: float = 1e-4
+    ik_dls_max_step_m: float = 0.05
+    ik_dls_max_step_rad: float = 0.2
+    ik_dls_orientation_weight_m_per_rad: float = 0.2
     # --- timing (TOPP-RA) ----------------------------------------------------------------
     velocity_scale: float = 0.3
     acceleration_scale: float = 0.3
@@ -112,6 +118,12 @@ class MotionConfig:
         "ik_accept_position_m": length_m(0.01),
         "ik_accept_orientation_rad": angle_rad(0.1),
         "ik_duplicate_tol_rad": angle_rad(0.5),
+        "ik_dls_iterations": count(1, 10_000),
+        "ik_dls_damping_early": Range(0.0, 1.0, lo_open=True),
+        "ik_dls_damping_late": Range(0.0, 1.0, lo_open=True),
+        "ik_dls_max_step_m": length_m(0.5),
+        "ik_dls_max_step_rad": angle_rad(3.2),
+        "ik_dls_orientation_weight_m_per_rad": Range(0.0, 10.0, lo_open=True, unit=" m/rad"),
         "velocity_scale": POSITIVE_FRACTION,
         "acceleration_scale": POSITIVE_FRACTION,
         "control_rate_hz": Range(1.0, 5000.0, unit=" Hz"),

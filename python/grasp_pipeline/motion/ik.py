@@ -38,13 +38,10 @@ from .poses import pose_error, pose_inverse, rotation_log, validate_joints, vali
 
 log = logging.getLogger(__name__)
 
-_DLS_DAMPING = 1e-4
-_DLS_DAMPING_EARLY = 0.05
-_ORIENTATION_WEIGHT_M = 0.2
-_DLS_MAX_STEP_M = 0.05
-_DLS_MAX_STEP_RAD = 0.2
-_DLS_ITERATIONS = 200
+#: Not tuning (the search's parameters are motion.yaml's ``ik_dls_*``):
+#: a refined solution may exceed a joint limit by this rounding slack [rad] ...
 _LIMIT_EPS_RAD = 1e-9
+#: ... and up to this many states, MuJoCo's own Jacobians are faster than the vectorised chain.
 _MJ_JACOBIAN_MAX_BATCH = 8
 
 
@@ -223,20 +220,24 @@ class PandaIK:
     def _dls_best(self, T: np.ndarray, seeds: np.ndarray) -> tuple[np.ndarray, float, float]:
         """Damped least squares with joint-limit clamping from each seed; the best reach.
 
-        Orientation rows are weighted by ``_ORIENTATION_WEIGHT_M`` (metres per radian) so an
-        unreachable target still yields a meaningful closest *position*.
+        Orientation rows are weighted by ``ik_dls_orientation_weight_m_per_rad`` so an
+        unreachable target still yields a meaningful closest *position*; the other ``ik_dls_*``
+        parameters of ``config/motion.yaml`` set the iterations, damping and step clamps.
         """
+        cfg = self.config
+        w_rot = cfg.ik_dls_orientation_weight_m_per_rad
         Q = seeds.astype(float).copy()
-        W = np.diag([1.0, 1.0, 1.0] + [_ORIENTATION_WEIGHT_M] * 3)[None]
-        for it in range(_DLS_ITERATIONS):
-            lam2 = (_DLS_DAMPING if it > _DLS_ITERATIONS // 2 else _DLS_DAMPING_EARLY) ** 2
+        W = np.diag([1.0, 1.0, 1.0] + [w_rot] * 3)[None]
+        half = cfg.ik_dls_iterations // 2
+        for it in range(cfg.ik_dls_iterations):
+            lam2 = (cfg.ik_dls_damping_late if it > half else cfg.ik_dls_damping_early) ** 2
             Rf, pf, J = self._flange_and_jacobian(Q)
             e6 = self._errors(T, Rf, pf)
             # clamp the task-space error: small steps keep DLS stable far from the target
             pn = np.linalg.norm(e6[:, :3], axis=1, keepdims=True)
             rn = np.linalg.norm(e6[:, 3:], axis=1, keepdims=True)
-            e6[:, :3] *= np.minimum(1.0, _DLS_MAX_STEP_M / np.maximum(pn, 1e-12))
-            e6[:, 3:] *= np.minimum(1.0, _DLS_MAX_STEP_RAD / np.maximum(rn, 1e-12))
+            e6[:, :3] *= np.minimum(1.0, cfg.ik_dls_max_step_m / np.maximum(pn, 1e-12))
+            e6[:, 3:] *= np.minimum(1.0, cfg.ik_dls_max_step_rad / np.maximum(rn, 1e-12))
             e = W @ e6[:, :, None]
             Jw = W @ J
             JT = np.transpose(Jw, (0, 2, 1))
@@ -245,7 +246,7 @@ class PandaIK:
         best = None
         for q in Q:
             pe, re = pose_error(T, self.fk_flange(q))
-            score = pe + _ORIENTATION_WEIGHT_M * re
+            score = pe + w_rot * re
             if best is None or score < best[0]:
                 best = (score, q, pe, re)
         return best[1], best[2], best[3]

@@ -28,7 +28,9 @@ class PerceivedScene:
     ``tids`` the track id of each (same order); ``object_points`` the (N, 3) world points of
     each in the latest frame (same order; empty or missing: not seen); ``capture_q`` (7,) arm
     joints at capture or None; ``T_world_camera`` (4, 4) camera pose at capture or None;
-    ``plane`` the table plane (``_core.Plane``) or None."""
+    ``plane`` the table plane (``_core.Plane``) or None; ``band_m`` the scene filter's band
+    above it (``scene_filter.band``): environment points lower than this are the table's (0:
+    none known)."""
 
     environment_points: np.ndarray
     boxes: list[OrientedBox] = field(default_factory=list)
@@ -37,6 +39,7 @@ class PerceivedScene:
     T_world_camera: Optional[np.ndarray] = None
     plane: object = None
     object_points: list[np.ndarray] = field(default_factory=list)
+    band_m: float = 0.0
 
     def index_of(self, tid: Optional[int]) -> Optional[int]:
         return self.tids.index(tid) if tid is not None and tid in self.tids else None

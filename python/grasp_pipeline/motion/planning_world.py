@@ -32,8 +32,6 @@ from .perceived_scene import PerceivedScene
 
 PERCEIVED_PREFIX = "object/"
 FIXTURE_PREFIX = "fixture/"
-#: Environment points less than this above the table plane are the table's [m].
-TABLE_BAND_M = 0.01
 #: Cell of the grid whose occupied cells each get a sphere covering an attached object [m].
 ATTACH_CELL_M = 0.02
 
@@ -60,6 +58,7 @@ class PlanningWorld:
         self.environment = np.zeros((0, 3))
         self.capture_q: Optional[np.ndarray] = None
         self.plane = None
+        self.band_m = 0.0  # the perceived scene's band above the plane: lower points are the table's
         self.touchable: Optional[str] = None
         self._env_dirty = True
 
@@ -72,7 +71,7 @@ class PlanningWorld:
         same = (env.shape == self.environment.shape and np.array_equal(env, self.environment)
                 and (q is None) == (self.capture_q is None)
                 and (q is None or np.array_equal(q, self.capture_q)))
-        self.environment, self.capture_q, self.plane = env, q, scene.plane
+        self.environment, self.capture_q, self.plane, self.band_m = env, q, scene.plane, scene.band_m
         self._env_dirty = self._env_dirty or not same  # the same frame: the map stands
         kept = {n: o for n, o in self.objects.items() if not n.startswith(PERCEIVED_PREFIX)}
         tops = scene.object_tops(self.points_model)
@@ -125,7 +124,7 @@ class PlanningWorld:
 
     def _clear_environment(self, box: OrientedBox) -> None:
         """Drop the environment points in the region the held object stood in (its box grown
-        by a voxel), except the table's (less than :data:`TABLE_BAND_M` above the plane):
+        by a voxel), except the table's (less than the scene's ``band_m`` above the plane):
         stray points of the object that no track took would otherwise stay where it stood
         and meet it when it is lifted."""
         env = self.environment
@@ -133,7 +132,7 @@ class PlanningWorld:
             return
         inside = box.inflated(float(self.planner.config.voxel_size_m)).contains(env)
         if self.plane is not None:
-            inside &= env @ np.asarray(self.plane.n, float) + float(self.plane.c) > TABLE_BAND_M
+            inside &= env @ np.asarray(self.plane.n, float) + float(self.plane.c) > self.band_m
         if np.any(inside):
             self.environment = env[~inside]
             self._env_dirty = True

@@ -25,6 +25,7 @@ from ..robot.description import hand_clearances
 from .config import DeclutterConfig
 from .events import StageEvent
 from .grasping.accessibility import rank_by_accessibility
+from .grasping.opening import full_margin_width_m
 from .pick import PickContext, grasp_request, pick_object, return_to_start
 from .scene.targets import default_targets
 from .scene.tracks import nearest_track
@@ -127,7 +128,7 @@ def choose_order(ctx: PickContext, targets: list, failed_anchors: list, config: 
     if config.order in ("accessibility", "score"):
         s = ctx.settings
         targets = rank_by_accessibility(targets, ctx.loop.tracks(), hand_clearances(),
-                                        s.grasp.open_margin_m, s.obb.gripper_open - s.grasp.open_margin_m,
+                                        s.grasp.open_margin_m, full_margin_width_m(s.grasp),
                                         config.free_space_enough_m)
     offers = []
     for t in targets:

@@ -37,6 +37,7 @@ from ..results import PickResult
 from .events import PickEvent, StageEvent
 from .execution.place import recover
 from .execution.stages import Stage
+from .grasping.opening import max_grasp_width_m
 from .grasping.reach import ArmReach
 from .grasping.source import GraspRequest, GraspSource
 from .grasping.top_down import GeometricGraspSource
@@ -162,7 +163,7 @@ def grasp_request(ctx: PickContext, xy, target, check_collisions: bool = False) 
     volume = getattr(loop, "volume", None)
     return GraspRequest(anchor_xy=(float(xy[0]), float(xy[1])), target=target,
                         published=loop.selector.best_grasp, scene=scene,
-                        max_width_m=s.obb.gripper_open - s.grasp.open_margin_m,
+                        max_width_m=max_grasp_width_m(s.grasp_fit),
                         cloud=loop.scene_cloud(), min_width_m=s.obb.min_graspable_width,
                         reach=reach, volume=volume, unknown=None if volume is None else volume.not_free)
 

@@ -12,6 +12,12 @@ e.g. ``scene_filter.plane_ransac_iters = 1000000000000 is out of range: expected
 in [1, 1000000]`` — never a raw pybind ``TypeError`` (the one validator of every parameter
 set, :func:`grasp_pipeline.config_ranges.check_ranges`). ``to_core()`` then runs the C++
 ``validate()`` as a second line of defence.
+
+Two facts the C++ parameter sets hold are not parameters of these sets, so that they cannot
+disagree with their one definition: the depth noise (``depth_noise_sigma_m`` and its range
+model, the sensor's: :mod:`grasp_pipeline.robot.depth_noise`, ``config/depth_noise.yaml``) and
+the gripper's opening (``ObbParams.gripper_open``, the robot's:
+:data:`grasp_pipeline.robot.limits.GRIPPER_MAX_WIDTH_M`). ``to_core(depth_noise)`` fills them in.
 """
 
 from __future__ import annotations
@@ -22,14 +28,24 @@ from pathlib import Path
 from typing import Any, ClassVar, Mapping
 
 from ..config import load_config
-from ..config_ranges import UINT64_MAX, Range, check_ranges, require
+from ..config_ranges import OPENING_M, UINT64_MAX, Range, check_ranges, require
 from ..exceptions import ConfigError
+from ..robot.depth_noise import DepthNoiseConfig
+from ..robot.limits import GRIPPER_MAX_WIDTH_M
 
 
-def _to_core(cfg: Any, core_cls: type) -> Any:
+def _to_core(cfg: Any, core_cls: type, section: str, **facts: float) -> Any:
+    """The C++ parameter set ``core_cls`` with ``cfg``'s values and ``facts`` (values defined
+    elsewhere, see the module doc), validated by the core."""
     params = core_cls()
     for f in dataclasses.fields(cfg):
         setattr(params, f.name, getattr(cfg, f.name))
+    for name, value in facts.items():
+        setattr(params, name, value)
+    try:
+        params.validate()
+    except ValueError as exc:
+        raise ConfigError(f"{section}: {exc}") from None
     return params
 
 
@@ -64,22 +80,17 @@ _SCENE_FILTER_RANGES = {
     "segment_nest_min_slope_deg": Range(0, 90, hi_open=True, unit=" deg"),
     "segment_nest_max_slope_deg": Range(0, 90, lo_open=True, hi_open=True, unit=" deg"),
     "segment_nest_rings_px": Range(2, 50, unit=" px"),
-    "depth_noise_sigma_m": Range(0, 0.1, lo_open=True, unit=" m"),
-    "depth_noise_ref_range_m": Range(0, 100, lo_open=True, unit=" m"),
-    "depth_noise_exponent": Range(0, 4),
     "object_min_height_sigmas": Range(0, 100, unit=" (0 disables)"),
 }
 
 #: method.md §2.7 ranges (the C++ ObbParams::validate()); cross-field rules in validate().
 _OBB_RANGES = {
-    "depth_noise_sigma": Range(0, 0.1, lo_open=True, unit=" m"),
     "top_slice_sigmas": Range(0, 100, lo_open=True),
     "top_slice_iters": Range(1, 1000),
     "n_theta": Range(2, 100_000),
     "width_tol_m": Range(0, 1, unit=" m"),
     "isotropy_ratio_max": Range(1, 100),
-    "gripper_open": Range(0, 1, lo_open=True, unit=" m"),
-    "min_graspable_width": Range(0, 1, unit=" m"),
+    "min_graspable_width": OPENING_M,
     "min_height": Range(0, 10, unit=" m"),
     "resting_margin": Range(0, 1, unit=" m"),
     "side_seen_sigmas": Range(0, 1000),
@@ -134,11 +145,8 @@ class SceneFilterConfig:
     segment_nest_min_slope_deg: float = 25.0
     segment_nest_max_slope_deg: float = 80.0
     segment_nest_rings_px: int = 6
-    #: (ours) depth noise model sigma(r) = sigma * (r / ref)^exponent, and the
-    #: range-dependent minimum object height (in sigmas of it; 0 disables).
-    depth_noise_sigma_m: float = 0.002
-    depth_noise_ref_range_m: float = 0.4
-    depth_noise_exponent: float = 2.0
+    #: (ours) the range-dependent minimum object height, in sigmas of the depth noise
+    #: (config/depth_noise.yaml; 0 disables).
     object_min_height_sigmas: float = 1.0
 
     RANGES: ClassVar[Mapping[str, Range]] = _SCENE_FILTER_RANGES
@@ -146,22 +154,21 @@ class SceneFilterConfig:
     def __post_init__(self) -> None:
         self.validate()
 
-    def to_core(self):
-        """The C++ ``SceneFilterParams`` with these values (validated)."""
+    def to_core(self, depth_noise: DepthNoiseConfig):
+        """The C++ ``SceneFilterParams`` with these values and the sensor's ``depth_noise``
+        model (validated)."""
         from .. import _core
 
         self.validate()
-        params = _to_core(self, _core.SceneFilterParams)
-        try:
-            params.validate()
-        except ValueError as exc:
-            raise ConfigError(f"scene_filter: {exc}") from None
-        return params
+        return _to_core(self, _core.SceneFilterParams, "scene_filter",
+                        depth_noise_sigma_m=depth_noise.depth_noise_sigma_m,
+                        depth_noise_ref_range_m=depth_noise.depth_noise_ref_range_m,
+                        depth_noise_exponent=depth_noise.depth_noise_exponent)
 
     def validate(self) -> None:
         """ConfigError naming the parameter, its value and the allowed range."""
+        check_ranges(self, "scene_filter")
         s = "scene_filter"
-        check_ranges(self, s)
         require(self.cluster_max_extent <= 0 or self.cluster_max_extent >= self.cluster_min_extent,
                  s, "cluster_max_extent", self.cluster_max_extent,
                  f">= cluster_min_extent = {self.cluster_min_extent:g} m (or <= 0 to disable)")
@@ -174,15 +181,15 @@ class SceneFilterConfig:
 
 @dataclass(frozen=True)
 class ObbConfig:
-    """method.md §2.7 (perception part): object estimate, guards and tracker."""
+    """method.md §2.7 (perception part): object estimate, guards and tracker. method.md's
+    ``depth_noise_sigma`` is the sensor's (``config/depth_noise.yaml``) and ``gripper_open``
+    the robot's largest opening (robot/limits.py): :meth:`to_core` fills them in."""
 
-    depth_noise_sigma: float = 0.002
     top_slice_sigmas: float = 4.0
     top_slice_iters: int = 3
     n_theta: int = 361
     width_tol_m: float = 0.002
     isotropy_ratio_max: float = 1.10
-    gripper_open: float = 0.08
     min_graspable_width: float = 0.005
     min_height: float = 0.005
     resting_margin: float = 0.008
@@ -199,23 +206,18 @@ class ObbConfig:
     def __post_init__(self) -> None:
         self.validate()
 
-    def to_core(self):
-        """The C++ ``ObbParams`` with these values (validated)."""
+    def to_core(self, depth_noise: DepthNoiseConfig):
+        """The C++ ``ObbParams`` with these values, the sensor's noise sigma and the gripper's
+        opening (validated)."""
         from .. import _core
 
         self.validate()
-        params = _to_core(self, _core.ObbParams)
-        try:
-            params.validate()
-        except ValueError as exc:
-            raise ConfigError(f"obb: {exc}") from None
-        return params
+        return _to_core(self, _core.ObbParams, "obb", depth_noise_sigma=depth_noise.depth_noise_sigma_m,
+                        gripper_open=GRIPPER_MAX_WIDTH_M)
 
     def validate(self) -> None:
         """ConfigError naming the parameter, its value and the allowed range."""
         check_ranges(self, "obb")
-        require(self.min_graspable_width <= self.gripper_open, "obb", "min_graspable_width",
-                 self.min_graspable_width, f"a width in [0, gripper_open = {self.gripper_open:g}] m")
 
 
 def load_scene_filter_config(path: str | Path | None = None,

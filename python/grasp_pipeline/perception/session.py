@@ -30,6 +30,7 @@ from typing import Optional
 import numpy as np
 
 from .. import _core
+from ..robot.depth_noise import DepthNoiseConfig
 from .config import ObbConfig, SceneFilterConfig
 from .workspace import WorkspaceConfig
 
@@ -93,12 +94,17 @@ class PerceptionSession:
 
     def __init__(self, filter_config: SceneFilterConfig | None = None,
                  obb_config: ObbConfig | None = None,
-                 workspace: WorkspaceConfig | None = None) -> None:
-        """``workspace``: drop points outside it before the scene filter (default: none)."""
+                 workspace: WorkspaceConfig | None = None,
+                 depth_noise: DepthNoiseConfig | None = None) -> None:
+        """``workspace``: drop points outside it before the scene filter (default: none);
+        ``depth_noise``: the camera's noise model (default: ``config/depth_noise.yaml``'s
+        defaults; give the settings' ``depth_noise``, the one the camera has)."""
         self.filter_config = filter_config or SceneFilterConfig()
         self.obb_config = obb_config or ObbConfig()
         self.workspace = workspace or WorkspaceConfig()
-        self._core = _core.Perception(self.filter_config.to_core(), self.obb_config.to_core())
+        self.depth_noise = depth_noise or DepthNoiseConfig()
+        self._core = _core.Perception(self.filter_config.to_core(self.depth_noise),
+                                      self.obb_config.to_core(self.depth_noise))
 
     @property
     def frames(self) -> int:

@@ -9,19 +9,13 @@ look (:mod:`grasp_pipeline.orchestration.scanning.side_view`).
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import ClassVar, Mapping
 
-from ..config_ranges import (FRACTION, Range, check_ranges, count, length_m, require)
+from ..config_ranges import FRACTION, Range, check_ranges, count, length_m, require
 
 #: What is forgotten after a grasp attempt (``volume_forget``).
 FORGET_TARGET, FORGET_ALL, FORGET_NONE = "target", "all", "none"
-
-
-def _require(ok: bool, name: str, value, expected: str) -> None:
-    require(ok, "volume", name, value, expected)
-
 
 #: Log-odds bounds of an occupancy update (p = 0.0067 .. 0.9933).
 LOGODDS = Range(-5.0, 5.0)
@@ -61,8 +55,10 @@ class VolumeConfig:
     RANGES: ClassVar[Mapping[str, Range]] = {
         "volume_box_min_m": Range(-10.0, 10.0, unit=" m"), "volume_box_max_m": Range(-10.0, 10.0, unit=" m"),
         "volume_voxel_m": Range(0.001, 0.1, unit=" m"), "volume_truncation_m": length_m(),
-        "volume_max_range_m": length_m(10.0), "volume_logodds_hit": LOGODDS,
-        "volume_logodds_miss": LOGODDS, "volume_logodds_min": LOGODDS, "volume_logodds_max": LOGODDS,
+        "volume_max_range_m": length_m(10.0),
+        "volume_logodds_hit": Range(0.0, LOGODDS.hi, lo_open=True),  # occupied evidence raises
+        "volume_logodds_miss": Range(LOGODDS.lo, 0.0, hi_open=True),  # free evidence lowers
+        "volume_logodds_min": LOGODDS, "volume_logodds_max": LOGODDS,
         "volume_integrate_every_frames": count(1, 1000), "volume_integrate_moved_m": length_m(zero=True),
         "volume_integrate_turned_deg": Range(0.0, 180.0, unit=" deg"),
         "volume_forget_margin_m": length_m(0.5, zero=True), "side_view_unknown_fraction": FRACTION,
@@ -79,52 +75,31 @@ class VolumeConfig:
 
     def validate(self) -> None:
         """Raise ConfigError naming the first parameter out of range (the voxel grid's own
-        limits are checked again by the C++ core)."""
+        limits are checked again by the C++ core): each value's range (``RANGES``), then the
+        rules between values (``_validate_rules``)."""
         check_ranges(self, "volume")
+        self._validate_rules("volume")
+
+    def _validate_rules(self, v: str) -> None:
         lo, hi = tuple(self.volume_box_min_m), tuple(self.volume_box_max_m)
         for name, box in (("volume_box_min_m", lo), ("volume_box_max_m", hi)):
-            _require(len(box) == 3 and all(math.isfinite(float(v)) for v in box), name, list(box),
-                     "3 finite numbers (x, y, z) in m")
-        _require(all(b - a >= self.volume_voxel_m for a, b in zip(lo, hi)), "volume_box_max_m",
-                 list(hi), "at least one voxel above volume_box_min_m on every axis")
-        _require(0.001 <= self.volume_voxel_m <= 0.1, "volume_voxel_m", self.volume_voxel_m, "[0.001, 0.1] m")
-        _require(0.5 * self.volume_voxel_m <= self.volume_truncation_m <= 1.0, "volume_truncation_m",
-                 self.volume_truncation_m, "[volume_voxel_m / 2, 1] m")
-        _require(self.volume_max_range_m > 0, "volume_max_range_m", self.volume_max_range_m, "> 0 m")
-        _require(self.volume_logodds_hit > 0, "volume_logodds_hit", self.volume_logodds_hit, "> 0")
-        _require(self.volume_logodds_miss < 0, "volume_logodds_miss", self.volume_logodds_miss, "< 0")
-        _require(self.volume_logodds_max >= self.volume_logodds_hit, "volume_logodds_max",
-                 self.volume_logodds_max, ">= volume_logodds_hit")
-        _require(self.volume_logodds_min <= self.volume_logodds_miss, "volume_logodds_min",
-                 self.volume_logodds_min, "<= volume_logodds_miss")
-        _require(self.volume_integrate_every_frames >= 1, "volume_integrate_every_frames",
-                 self.volume_integrate_every_frames, "an integer >= 1 (1: every frame)")
-        _require(self.volume_integrate_moved_m >= 0, "volume_integrate_moved_m", self.volume_integrate_moved_m, ">= 0 m")
-        _require(self.volume_integrate_turned_deg >= 0, "volume_integrate_turned_deg",
-                 self.volume_integrate_turned_deg, ">= 0 deg")
-        _require(self.volume_forget in (FORGET_TARGET, FORGET_ALL, FORGET_NONE), "volume_forget",
-                 self.volume_forget, f"one of {FORGET_TARGET}, {FORGET_ALL}, {FORGET_NONE}")
-        _require(self.volume_forget_margin_m >= 0, "volume_forget_margin_m", self.volume_forget_margin_m, ">= 0 m")
-        self._validate_side_view()
-
-    def _validate_side_view(self) -> None:
-        _require(0 <= self.side_view_unknown_fraction <= 1, "side_view_unknown_fraction",
-                 self.side_view_unknown_fraction, "[0, 1]")
-        _require(self.side_view_shell_m >= self.volume_voxel_m, "side_view_shell_m", self.side_view_shell_m,
-                 ">= volume_voxel_m")
-        _require(self.side_view_table_clearance_m >= 0, "side_view_table_clearance_m",
-                 self.side_view_table_clearance_m, ">= 0 m")
-        elev = tuple(self.side_view_elevations_deg)
-        _require(len(elev) > 0 and all(0 < e < 90 for e in elev), "side_view_elevations_deg", list(elev),
-                 "a non-empty list of angles in (0, 90) deg above the table")
-        _require(0 < self.side_view_azimuth_step_deg <= 180, "side_view_azimuth_step_deg",
-                 self.side_view_azimuth_step_deg, "(0, 180] deg")
+            require(len(box) == 3, v, name, list(box), "3 finite numbers (x, y, z) in m")
+        require(all(b - a >= self.volume_voxel_m for a, b in zip(lo, hi)), v, "volume_box_max_m",
+                list(hi), "at least one voxel above volume_box_min_m on every axis")
+        require(0.5 * self.volume_voxel_m <= self.volume_truncation_m, v, "volume_truncation_m",
+                self.volume_truncation_m, "[volume_voxel_m / 2, 1] m")
+        require(self.volume_logodds_max >= self.volume_logodds_hit, v, "volume_logodds_max",
+                self.volume_logodds_max, ">= volume_logodds_hit")
+        require(self.volume_logodds_min <= self.volume_logodds_miss, v, "volume_logodds_min",
+                self.volume_logodds_min, "<= volume_logodds_miss")
+        require(self.volume_forget in (FORGET_TARGET, FORGET_ALL, FORGET_NONE), v, "volume_forget",
+                self.volume_forget, f"one of {FORGET_TARGET}, {FORGET_ALL}, {FORGET_NONE}")
+        require(self.side_view_shell_m >= self.volume_voxel_m, v, "side_view_shell_m",
+                self.side_view_shell_m, ">= volume_voxel_m")
+        require(len(self.side_view_elevations_deg) > 0, v, "side_view_elevations_deg",
+                list(self.side_view_elevations_deg), "a non-empty list of angles in (0, 90) deg above the table")
         dist = tuple(self.side_view_distances_m)
-        _require(len(dist) > 0 and all(d > self.side_view_min_range_m for d in dist), "side_view_distances_m",
-                 list(dist), "a non-empty list of distances above side_view_min_range_m")
-        _require(0 <= self.side_view_min_range_m < self.volume_max_range_m, "side_view_min_range_m",
-                 self.side_view_min_range_m, "[0, volume_max_range_m) m")
-        _require(0 <= self.side_view_min_gain_fraction <= 1, "side_view_min_gain_fraction",
-                 self.side_view_min_gain_fraction, "[0, 1]")
-        _require(self.side_view_max_ik_checks >= 1, "side_view_max_ik_checks", self.side_view_max_ik_checks, ">= 1")
-        _require(self.side_view_dwell_frames >= 1, "side_view_dwell_frames", self.side_view_dwell_frames, ">= 1")
+        require(len(dist) > 0 and all(d > self.side_view_min_range_m for d in dist), v,
+                "side_view_distances_m", list(dist), "a non-empty list of distances above side_view_min_range_m")
+        require(self.side_view_min_range_m < self.volume_max_range_m, v, "side_view_min_range_m",
+                self.side_view_min_range_m, "[0, volume_max_range_m) m")

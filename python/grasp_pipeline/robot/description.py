@@ -16,7 +16,8 @@ Frames (all 4x4 homogeneous transforms, metres, right-handed):
   OpenCV/ROS optical convention). MuJoCo's own camera frame looks along -z with +y up; it is
   converted here (a 180 deg turn about x), so every consumer sees the optical convention.
 
-Limits (``PANDA_*``) are Franka's published figures (the robot's datasheet).
+Limits (``PANDA_*``, ``GRIPPER_*``) are Franka's published figures (the robot's datasheet),
+defined once in :mod:`.limits` and re-exported here.
 """
 
 from __future__ import annotations
@@ -28,6 +29,9 @@ import mujoco
 import numpy as np
 
 from ..assets import asset_path
+# the published limits, defined once in .limits (re-exported: the robot's names in one place)
+from .limits import (GRIPPER_MAX_FORCE_N, GRIPPER_MAX_WIDTH_M, PANDA_Q_MAX, PANDA_Q_MIN,  # noqa: F401
+                     PANDA_QD_MAX, PANDA_QDD_MAX, PANDA_TAU_MAX)
 
 #: MJCF file of the robot (arm + hand + camera), inside the package assets.
 ROBOT_XML = "panda.xml"
@@ -45,18 +49,6 @@ FINGER_BODIES: tuple[str, str] = ("panda_leftfinger", "panda_rightfinger")
 FINGER_PAD_GEOMS: tuple[str, str] = ("leftfinger_pad", "rightfinger_pad")
 TCP_SITE = "tcp"
 CAMERA_NAME = "wrist_depth_camera"
-
-# Franka Panda joint limits (Franka datasheet; see third_party_notes.md).
-PANDA_Q_MIN = np.array([-2.8973, -1.7628, -2.8973, -3.0718, -2.8973, -0.0175, -2.8973])
-PANDA_Q_MAX = np.array([2.8973, 1.7628, 2.8973, -0.0698, 2.8973, 3.7525, 2.8973])
-PANDA_QD_MAX = np.array([2.1750, 2.1750, 2.1750, 2.1750, 2.6100, 2.6100, 2.6100])
-PANDA_QDD_MAX = np.array([15.0, 7.5, 10.0, 12.5, 15.0, 20.0, 20.0])
-PANDA_TAU_MAX = np.array([87.0, 87.0, 87.0, 87.0, 12.0, 12.0, 12.0])
-for _a in (PANDA_Q_MIN, PANDA_Q_MAX, PANDA_QD_MAX, PANDA_QDD_MAX, PANDA_TAU_MAX):
-    _a.setflags(write=False)
-
-#: Maximum finger gap of the Franka Hand [m].
-GRIPPER_MAX_WIDTH_M = 0.08
 
 #: Franka's common neutral pose (0, -pi/4, 0, -3pi/4, 0, pi/2, pi/4).
 NEUTRAL_Q = np.array([0.0, -np.pi / 4, 0.0, -3 * np.pi / 4, 0.0, np.pi / 2, np.pi / 4])
@@ -180,8 +172,8 @@ class HandClearances:
 
     pad_below_tcp_m: float
     palm_above_tcp_m: float
-    finger_thickness_m: float = 0.02
-    finger_width_m: float = 0.019
+    finger_thickness_m: float
+    finger_width_m: float
 
 
 def _geom_reach_along_z(model: mujoco.MjModel, g: int, T_hand_body: np.ndarray) -> float:

@@ -14,9 +14,10 @@ Backends (chosen once, logged at INFO):
 
 Per frame, on the *clean* depth: pixels nearer than ``min_range_m`` or farther than
 ``max_range_m`` (including "no surface"), and pixels whose surface is seen at more than
-``grazing_max_deg`` from its normal, become NaN. Then Gaussian noise along the optical axis,
-``sigma(z) = noise_sigma_m * (z / noise_ref_range_m) ** noise_exponent`` (2 mm at 0.4 m by
-default), and the back-projection ``p_cam = z * ((u - cx)/fx, (v - cy)/fy, 1)``,
+``grazing_max_deg`` from its normal, become NaN. Then (``add_noise``) the sensor's Gaussian
+noise along the optical axis, ``sigma(z) = depth_noise_sigma_m * (z / depth_noise_ref_range_m)
+** depth_noise_exponent`` (``config/depth_noise.yaml``, the model perception expects too; 2 mm
+at 0.4 m by default), and the back-projection ``p_cam = z * ((u - cx)/fx, (v - cy)/fy, 1)``,
 ``p_world = T_world_camera p_cam``.
 
 Colour (``camera.rgb``, on by default): ``Frame.rgb`` is rendered by the same camera at the
@@ -55,6 +56,7 @@ import numpy as np
 from .config import CameraConfig
 from .exceptions import RenderError, RenderUnavailable
 from ..robot.frame import Frame
+from ..robot.depth_noise import DepthNoiseConfig, load_depth_noise_config
 from ..robot.description import CAMERA_NAME
 from .gl_backend import gl_in_effect, new_renderer
 from .rgbd_renderer import RgbdRenderer
@@ -160,7 +162,8 @@ class DepthCamera:
 
     Args:
         model, data: the simulation the camera lives in (``data`` is read, never stepped).
-        config: image size, field of view, valid range, noise, backend, colour, labels.
+        config: image size, field of view, valid range, noise on/off, backend, colour, labels.
+        depth_noise: the sensor's noise model (default: ``config/depth_noise.yaml``).
 
     The vertical field of view in ``config`` is written into ``model.cam_fovy`` so the model
     and the intrinsics agree. Call :meth:`close` (or use ``with``) to free the GL context and
@@ -170,10 +173,12 @@ class DepthCamera:
     """
 
     def __init__(self, model: mujoco.MjModel, data: mujoco.MjData, config: CameraConfig,
-                 raycast_threads: int | None = None, camera_name: str = CAMERA_NAME):
+                 raycast_threads: int | None = None, camera_name: str = CAMERA_NAME,
+                 depth_noise: DepthNoiseConfig | None = None):
         self.model = model
         self.data = data
         self.config = config
+        self.depth_noise = depth_noise if depth_noise is not None else load_depth_noise_config()
         self.camera_name = camera_name
         self.cam_id = model.camera(camera_name).id
         model.cam_fovy[self.cam_id] = config.vfov_deg
@@ -542,9 +547,10 @@ class DepthCamera:
         invalid = ~((z >= cfg.min_range_m) & (z <= cfg.max_range_m))
         z = np.where(invalid, np.float32(np.nan), z)
         invalid |= self._grazing_mask(z)
-        if cfg.noise_sigma_m > 0:
-            sigma = np.float32(cfg.noise_sigma_m) * (
-                z / np.float32(cfg.noise_ref_range_m)) ** np.float32(cfg.noise_exponent)
+        if cfg.add_noise:
+            noise = self.depth_noise
+            sigma = np.float32(noise.depth_noise_sigma_m) * (
+                z / np.float32(noise.depth_noise_ref_range_m)) ** np.float32(noise.depth_noise_exponent)
             z = z + sigma * self._rng.standard_normal(z.shape, dtype=np.float32)
         z[invalid] = np.nan
         pts_world = np.empty(z.shape + (3,), dtype=np.float32)

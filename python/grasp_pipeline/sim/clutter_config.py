@@ -8,7 +8,7 @@ from typing import Any, ClassVar, Mapping
 
 from ..config import load_config
 from ..config_ranges import (CELL_COORDINATE_M, Range, check_ranges, count, duration_s, length_m,
-                             require)
+                             require, require_min_max)
 
 
 @dataclass(frozen=True)
@@ -46,9 +46,7 @@ class ClutterConfig:
         require(len(self.square_center_m) == 2, "clutter", "square_center_m",
                 self.square_center_m, "(x, y)")
         for name in ("packed_scale", "pile_scale"):
-            lo_hi = getattr(self, name)
-            require(len(lo_hi) == 2 and lo_hi[0] <= lo_hi[1], "clutter", name, list(lo_hi),
-                    "[min, max] with min <= max")
+            require_min_max("clutter", name, getattr(self, name))
 
 
 def load_clutter_config(path: str | Path | None = None,

@@ -32,9 +32,10 @@ from .config import SimConfig
 from .exceptions import SceneError
 from .object_geoms import add_object, object_body_name
 from .scene_spec import ObjectSpec, SceneSpec
+from .scenes import REST_CLEARANCE_M  # objects start this far above the table (no initial contact)
+from .work_cell import table_top_z_m
 
 TABLE_THICKNESS_M = 0.02
-REST_CLEARANCE_M = 0.0005   # objects start this far above the table (no initial contact)
 SETTLE_SPEED_MPS = 0.01     # a pile has settled when every object is slower than this
 
 
@@ -59,7 +60,7 @@ def _base_spec(sim: SimConfig, walls: Sequence[tuple] = ()) -> mujoco.MjSpec:
     spec.option.impratio = 10
     spec.worldbody.add_geom(name="table", type=mujoco.mjtGeom.mjGEOM_BOX,
                             size=[1.0, 1.0, TABLE_THICKNESS_M / 2],
-                            pos=[0.5, 0.0, sim.table_top_z_m - TABLE_THICKNESS_M / 2])
+                            pos=[0.5, 0.0, table_top_z_m() - TABLE_THICKNESS_M / 2])
     for k, (centre, half) in enumerate(walls):
         spec.worldbody.add_geom(name=f"box_wall{k}", type=mujoco.mjtGeom.mjGEOM_BOX,
                                 size=list(half), pos=list(centre))
@@ -97,7 +98,7 @@ def packed_scene(models: Sequence, seed: int, cfg: ClutterConfig, sim: SimConfig
     notes = []
     for i, model in enumerate(_choose(models, rng, cfg.objects_per_scene)):
         scaled = model.scaled(float(rng.uniform(*cfg.packed_scale)))
-        z = sim.table_top_z_m + 0.5 * float(scaled.extents_m()[2]) + REST_CLEARANCE_M
+        z = table_top_z_m() + 0.5 * float(scaled.extents_m()[2]) + REST_CLEARANCE_M
         for _ in range(cfg.placement_attempts):
             cand = _spec_for(scaled, i, (*_square_xy(rng, cfg), z), yaw=rng.uniform(0, 2 * math.pi))
             if not _touches(placed + [cand], sim, cfg.placement_gap_m):
@@ -107,7 +108,7 @@ def packed_scene(models: Sequence, seed: int, cfg: ClutterConfig, sim: SimConfig
             notes.append(f"{model.name}_{i}: no free place in {cfg.placement_attempts} attempts")
     if not placed:
         raise SceneError(f"packed scene {seed}: no object could be placed")
-    return SceneSpec(f"packed_{seed}", tuple(placed), sim.table_top_z_m,
+    return SceneSpec(f"packed_{seed}", tuple(placed), table_top_z_m(),
                      tuple(float(v) for v in READY_Q), seed=seed, notes=tuple(notes))
 
 
@@ -120,10 +121,10 @@ def _random_quat(rng: np.random.Generator) -> np.ndarray:
     return np.array([w, x, y, z])
 
 
-def _box_walls(cfg: ClutterConfig, sim: SimConfig) -> list[tuple]:
+def _box_walls(cfg: ClutterConfig) -> list[tuple]:
     cx, cy = cfg.square_center_m
     h, t, s = cfg.box_wall_height_m, cfg.box_wall_thickness_m, cfg.square_size_m
-    z = sim.table_top_z_m + h / 2
+    z = table_top_z_m() + h / 2
     off = s / 2 + t / 2
     return [((cx + off, cy, z), (t / 2, s / 2 + t, h / 2)), ((cx - off, cy, z), (t / 2, s / 2 + t, h / 2)),
             ((cx, cy + off, z), (s / 2, t / 2, h / 2)), ((cx, cy - off, z), (s / 2, t / 2, h / 2))]
@@ -151,7 +152,7 @@ def _simulate(objects: list[ObjectSpec], sim: SimConfig, walls, duration_s: floa
     return out
 
 
-def _drop_pose(scaled, rng: np.random.Generator, cfg: ClutterConfig, sim: SimConfig):
+def _drop_pose(scaled, rng: np.random.Generator, cfg: ClutterConfig):
     quat = _random_quat(rng)
     R = np.zeros(9)
     mujoco.mju_quat2Mat(R, quat)
@@ -161,30 +162,30 @@ def _drop_pose(scaled, rng: np.random.Generator, cfg: ClutterConfig, sim: SimCon
     lowest = float(np.min(corners @ R.reshape(3, 3).T[:, 2]))
     radius = 0.5 * float(np.linalg.norm(hi - lo))
     xy = _square_xy(rng, cfg, margin_m=min(radius, 0.4 * cfg.square_size_m))
-    return (*xy, sim.table_top_z_m + cfg.drop_height_m - lowest), quat
+    return (*xy, table_top_z_m() + cfg.drop_height_m - lowest), quat
 
 
-def _inside(o: ObjectSpec, cfg: ClutterConfig, sim: SimConfig) -> bool:
+def _inside(o: ObjectSpec, cfg: ClutterConfig) -> bool:
     c = np.asarray(cfg.square_center_m, float)
     p = np.asarray(o.position_m, float)
-    return bool(np.all(np.abs(p[:2] - c) <= 0.5 * cfg.square_size_m) and p[2] > sim.table_top_z_m)
+    return bool(np.all(np.abs(p[:2] - c) <= 0.5 * cfg.square_size_m) and p[2] > table_top_z_m())
 
 
 def pile_scene(models: Sequence, seed: int, cfg: ClutterConfig, sim: SimConfig) -> SceneSpec:
     """VGN's pile protocol (see the module doc)."""
     rng = np.random.default_rng(seed)
-    walls = _box_walls(cfg, sim)
+    walls = _box_walls(cfg)
     objects: list[ObjectSpec] = []
     for i, model in enumerate(_choose(models, rng, cfg.objects_per_scene)):
         scaled = model.scaled(float(rng.uniform(*cfg.pile_scale)))
-        pos, quat = _drop_pose(scaled, rng, cfg, sim)
+        pos, quat = _drop_pose(scaled, rng, cfg)
         objects = _simulate(objects + [_spec_for(scaled, i, pos, quat=quat)], sim, walls, cfg.settle_s)
     settled = _simulate(objects, sim, (), cfg.settle_s)   # the box is removed
-    kept = [o for o in settled if _inside(o, cfg, sim)]
+    kept = [o for o in settled if _inside(o, cfg)]
     kept_names = {o.name for o in kept}
     notes = tuple(f"{o.name}: left the square after the box was removed" for o in settled
                   if o.name not in kept_names)
     if not kept:
         raise SceneError(f"pile scene {seed}: every object left the square")
-    return SceneSpec(f"pile_{seed}", tuple(kept), sim.table_top_z_m, tuple(float(v) for v in READY_Q),
+    return SceneSpec(f"pile_{seed}", tuple(kept), table_top_z_m(), tuple(float(v) for v in READY_Q),
                      seed=seed, notes=notes)

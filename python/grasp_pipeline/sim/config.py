@@ -11,8 +11,8 @@ from pathlib import Path
 from typing import Any, ClassVar, Mapping
 
 from ..config import load_config
-from ..config_ranges import (CELL_COORDINATE_M, FORCE_N, RATE_HZ, REACH_M, Range, check_ranges, count,
-                             length_m, require)
+from ..config_ranges import (CELL_COORDINATE_M, FORCE_N, RATE_HZ, Range, check_ranges, count,
+                             length_m, require, require_min_max)
 from ..exceptions import ConfigError
 
 CAMERA_BACKENDS = ("auto", "gl", "raycast")
@@ -22,14 +22,10 @@ FRAME_MODES = ("on_demand", "continuous")
 MAX_IMAGE_PX = 4096
 
 
-def _check_min_max(section: str, name: str, rng: tuple) -> None:
-    """A [min, max] pair (each item's range is declared in RANGES)."""
-    require(len(rng) == 2 and rng[0] <= rng[1], section, name, list(rng), "[min, max] with min <= max")
-
-
 @dataclass(frozen=True)
 class CameraConfig:
-    """Depth camera: image size, field of view, rate, valid range, noise model, backend;
+    """Depth camera: image size, field of view, rate, valid range, whether the sensor's depth
+    noise is added (``add_noise``; the noise model is ``config/depth_noise.yaml``'s), backend;
     ``rgb``: deliver a colour image aligned with the depth (``Frame.rgb``); ``labels``: also
     compute per-pixel object labels (evaluation only, read through the ground-truth module,
     never in the frame); ``frames``: ``on_demand`` renders a frame only while a consumer
@@ -43,9 +39,7 @@ class CameraConfig:
     frames: str = "on_demand"
     min_range_m: float = 0.12
     max_range_m: float = 3.0
-    noise_sigma_m: float = 0.002
-    noise_ref_range_m: float = 0.4
-    noise_exponent: float = 2.0
+    add_noise: bool = True
     grazing_max_deg: float = 80.0
     backend: str = "auto"
     seed: int = 0
@@ -59,9 +53,6 @@ class CameraConfig:
         "rate_hz": RATE_HZ,
         "min_range_m": length_m(10.0),
         "max_range_m": length_m(100.0),
-        "noise_sigma_m": length_m(0.1, zero=True),
-        "noise_ref_range_m": length_m(100.0),
-        "noise_exponent": Range(0.0, 4.0),
         "grazing_max_deg": Range(0.0, 90.0, lo_open=True, unit=" deg"),
         "seed": count(0, 2**63 - 1),
     }
@@ -88,10 +79,8 @@ class SimConfig:
     timestep_s: float = 0.002
     gripper_speed_mps: float = 0.1
     gripper_default_effort_N: float = 40.0
-    gripper_max_effort_N: float = 140.0
     object_density_kg_m3: float = 800.0
     object_friction: float = 1.0
-    table_top_z_m: float = 0.2
     region_x_m: tuple[float, ...] = (0.40, 0.64)
     region_y_m: tuple[float, ...] = (-0.22, 0.22)
     min_separation_m: float = 0.12
@@ -106,10 +95,8 @@ class SimConfig:
         "timestep_s": Range(0.0005, 0.005, unit=" s"),
         "gripper_speed_mps": Range(0.0, 1.0, lo_open=True, unit=" m/s"),
         "gripper_default_effort_N": FORCE_N,
-        "gripper_max_effort_N": FORCE_N,
         "object_density_kg_m3": Range(0.0, 25_000.0, lo_open=True, unit=" kg/m^3"),
         "object_friction": Range(0.0, 10.0, lo_open=True),
-        "table_top_z_m": length_m(REACH_M, zero=True),
         "region_x_m": CELL_COORDINATE_M,
         "region_y_m": CELL_COORDINATE_M,
         "min_separation_m": length_m(0.5, zero=True),
@@ -123,12 +110,9 @@ class SimConfig:
 
     def validate(self) -> None:
         check_ranges(self, "sim")
-        require(self.gripper_default_effort_N <= self.gripper_max_effort_N, "sim",
-                "gripper_default_effort_N", self.gripper_default_effort_N,
-                f"a force <= gripper_max_effort_N = {self.gripper_max_effort_N:g} N")
         for name in ("region_x_m", "region_y_m", "object_count", "cube_size_m", "cuboid_width_m",
                      "cuboid_height_m", "cylinder_diameter_m", "cylinder_height_m"):
-            _check_min_max("sim", name, getattr(self, name))
+            require_min_max("sim", name, getattr(self, name))
 
 
 def load_camera_config(path: str | Path | None = None,

@@ -16,6 +16,7 @@ from .config import SimConfig, load_sim_config
 from .exceptions import SceneError
 from ..robot.description import READY_Q
 from .scene_spec import OBJECT_KINDS, ObjectSpec, SceneSpec
+from .work_cell import table_top_z_m
 
 #: Gap left under an object when it is placed, so it settles onto the table without a jolt.
 REST_CLEARANCE_M = 0.0005
@@ -46,7 +47,7 @@ def reference_scene(config: SimConfig | None = None) -> SceneSpec:
     """method.md §8: blue cube near (0.56, -0.03), red cube near (0.46, -0.10), green
     cylinder near (0.52, 0.09) on the table (top at 0.200 m); start joints :data:`READY_Q`."""
     cfg = config if config is not None else load_sim_config()
-    top = cfg.table_top_z_m
+    top = table_top_z_m()
     c, d, h = REFERENCE_CUBE_SIZE_M, REFERENCE_CYLINDER_DIAMETER_M, REFERENCE_CYLINDER_HEIGHT_M
     objects = (
         ObjectSpec("blue_cube", "cube", (c, c, c), (0.56, -0.03, _resting_z(top, c)),
@@ -76,7 +77,7 @@ def _random_object(rng: np.random.Generator, cfg: SimConfig, index: int,
         dia = _uniform(rng, cfg.cylinder_diameter_m)
         size = (dia, dia, _uniform(rng, cfg.cylinder_height_m))
     yaw = float(rng.uniform(-math.pi, math.pi)) if kind != "cylinder" else 0.0
-    pos = (xy[0], xy[1], _resting_z(cfg.table_top_z_m, size[2]))
+    pos = (xy[0], xy[1], _resting_z(table_top_z_m(), size[2]))
     return ObjectSpec(f"{kind}_{index}", kind, size, pos, yaw_rad=yaw,
                       rgba=PALETTE[index % len(PALETTE)])
 
@@ -107,7 +108,7 @@ def random_scene(seed: int, n_objects: int | None = None,
                 break
         if len(centres) == n:
             objects = tuple(_random_object(rng, cfg, i, xy) for i, xy in enumerate(centres))
-            return SceneSpec(f"random_{seed}", objects, cfg.table_top_z_m,
+            return SceneSpec(f"random_{seed}", objects, table_top_z_m(),
                              tuple(float(v) for v in READY_Q), seed=seed)
     raise SceneError(
         f"cannot place {n} objects {cfg.min_separation_m} m apart in x {cfg.region_x_m}, "

@@ -38,6 +38,7 @@ from .camera import DepthCamera
 from .config import CameraConfig, SimConfig, load_camera_config, load_sim_config
 from .exceptions import GripperError, ModelError, TrajectoryError
 from .joint_reference import TrajectoryReference
+from ..robot.depth_noise import DepthNoiseConfig
 from ..robot.frame import Frame
 from ..robot.description import (
     BASE_BODY,
@@ -45,6 +46,7 @@ from ..robot.description import (
     FINGER_JOINT_NAMES,
     FLANGE_BODY,
     GRIPPER_ACTUATOR,
+    GRIPPER_MAX_FORCE_N,
     GRIPPER_MAX_WIDTH_M,
     PANDA_ACTUATOR_NAMES,
     PANDA_Q_MAX,
@@ -56,13 +58,12 @@ from ..robot.description import (
 from .object_geoms import OBJECT_PREFIX, add_object, geom_object
 from .scene_spec import SceneSpec
 from .scenes import reference_scene
-from .work_cell import TABLE_TOP_GEOM, read_work_cell
+from .work_cell import SCENE_BASE_XML, TABLE_TOP_GEOM, read_work_cell
 from ..motion.work_cell import WorkCell
 from ..robot.protocols import ContactAllowance
 
 log = logging.getLogger(__name__)
 
-SCENE_BASE_XML = "scene_base.xml"
 #: Robot geoms whose name contains this are fingers (pads and finger bodies).
 FINGER_GEOM_MARK = "finger"
 #: How far outside the joint limits a trajectory point may lie (numerical slack) [rad].
@@ -101,13 +102,16 @@ class SimWorld:
         sim_config: physics/gripper parameters (default: ``config/sim.yaml``).
         camera_config: depth camera parameters (default: ``config/camera.yaml``).
         camera: create the depth camera (False for physics-only use; ``capture`` then raises).
+        depth_noise: the camera's noise model (default: ``config/depth_noise.yaml``; perception
+            must be given the same, see :mod:`grasp_pipeline.robot.depth_noise`).
 
     The arm starts at ``scene.start_q`` holding still, the gripper fully open.
     Use as a context manager or call :meth:`close` to free the camera's GL context.
     """
 
     def __init__(self, scene: SceneSpec | None = None, sim_config: SimConfig | None = None,
-                 camera_config: CameraConfig | None = None, camera: bool = True):
+                 camera_config: CameraConfig | None = None, camera: bool = True,
+                 depth_noise: DepthNoiseConfig | None = None):
         self.config = sim_config if sim_config is not None else load_sim_config()
         self.scene = scene if scene is not None else reference_scene(self.config)
         self.model = build_scene_model(self.scene, self.config)
@@ -145,7 +149,8 @@ class SimWorld:
 
         cam_cfg = camera_config if camera_config is not None else load_camera_config()
         self.camera_config = cam_cfg
-        self.camera: DepthCamera | None = DepthCamera(m, self.data, cam_cfg) if camera else None
+        self.camera: DepthCamera | None = (DepthCamera(m, self.data, cam_cfg, depth_noise=depth_noise)
+                                           if camera else None)
         self._next_frame_time_s = float(self.data.time)
         self._frame_listeners: list[Callable[[Frame], None]] = []
         self._continuous_frames = cam_cfg.frames == "continuous"
@@ -169,7 +174,7 @@ class SimWorld:
         top = float(g.pos[2] + g.size[2])
         if abs(top - self.scene.table_top_z_m) > TABLE_TOP_TOLERANCE_M:
             raise ModelError(f"table top in {SCENE_BASE_XML} is at {top:.4f} m but the scene "
-                             f"expects {self.scene.table_top_z_m:.4f} m (sim.yaml table_top_z_m)")
+                             f"expects {self.scene.table_top_z_m:.4f} m (its table_top_z_m)")
 
     # ------------------------------------------------------------------ readouts
     @property
@@ -309,15 +314,15 @@ class SimWorld:
             width_m: target gap between the pads, 0 .. 0.08 m. Closing on an object, command
                 less than its width: the fingers stall on it and squeeze with ``effort_N``.
             effort_N: force limit of the gripper actuator = squeeze force at a stall
-                (default ``sim.yaml`` ``gripper_default_effort_N``; at most
-                ``gripper_max_effort_N``).
+                (default ``sim.yaml`` ``gripper_default_effort_N``; at most the hand's
+                ``GRIPPER_MAX_FORCE_N``, robot/limits.py).
             speed_mps: rate at which the commanded gap moves (default ``gripper_speed_mps``).
         """
         if not (0.0 <= width_m <= GRIPPER_MAX_WIDTH_M + 1e-9) or not math.isfinite(width_m):
             raise GripperError(f"gripper width must be within 0..{GRIPPER_MAX_WIDTH_M} m, got {width_m}")
         effort = self.config.gripper_default_effort_N if effort_N is None else float(effort_N)
-        if not 0.0 < effort <= self.config.gripper_max_effort_N:
-            raise GripperError(f"gripper effort must be in (0, {self.config.gripper_max_effort_N}] N,"
+        if not 0.0 < effort <= GRIPPER_MAX_FORCE_N:
+            raise GripperError(f"gripper effort must be in (0, {GRIPPER_MAX_FORCE_N:g}] N,"
                                f" got {effort}")
         speed = self.config.gripper_speed_mps if speed_mps is None else float(speed_mps)
         if speed <= 0:

@@ -19,6 +19,7 @@ from grasp_pipeline import _core
 from grasp_pipeline.assets import default_config_dir
 from grasp_pipeline.config import read_yaml
 from grasp_pipeline.perception import SceneFilterConfig
+from grasp_pipeline.robot.depth_noise import DepthNoiseConfig
 from isolated import describe, run_isolated
 from test_core_bindings import cube_cloud, table_cloud
 
@@ -39,7 +40,7 @@ def test_coordinate_bound_defaults_agree_in_cpp_python_and_yaml():
     assert _core.SceneFilterParams().max_abs_coordinate_m == 1000.0
     assert SceneFilterConfig().max_abs_coordinate_m == 1000.0
     assert yaml_value == 1000.0
-    assert SceneFilterConfig().to_core().max_abs_coordinate_m == 1000.0
+    assert SceneFilterConfig().to_core(DepthNoiseConfig()).max_abs_coordinate_m == 1000.0
 
 
 @pytest.mark.parametrize("voxel", [0.003, 0.0])

@@ -9,6 +9,7 @@ import pytest
 from grasp_pipeline import _core
 from grasp_pipeline.perception import PerceptionSession, SceneFilterConfig
 from grasp_pipeline.perception import synthetic as syn
+from grasp_pipeline.robot.depth_noise import DepthNoiseConfig
 
 W = syn.PinholeCamera().width_px
 
@@ -125,7 +126,8 @@ def test_core_height_rule_refuses_low_clusters_far_from_the_camera():
     patch = np.c_[rng.uniform(0, 0.05, (400, 2)), rng.uniform(0.011, 0.013, 400)]
     pts = np.vstack([table, patch]).astype(np.float32)
     for cam_dist, objects in ((0.5, 1), (2.0, 0)):
-        per = _core.Perception(SceneFilterConfig().to_core(), PerceptionSession().obb_config.to_core())
+        noise = DepthNoiseConfig()
+        per = _core.Perception(SceneFilterConfig().to_core(noise), PerceptionSession().obb_config.to_core(noise))
         fr = per.process(pts, np.array([0.0, 0.0, cam_dist]), 0.0)
         assert len(fr.filter.cluster_ids) == objects
         assert fr.filter.num_too_low == 1 - objects

@@ -18,6 +18,8 @@ from grasp_pipeline.config import build_config
 from grasp_pipeline.exceptions import ConfigError
 from grasp_pipeline.perception import ObbConfig, SceneFilterConfig, load_scene_filter_config
 from grasp_pipeline.perception.config import _OBB_RANGES, _SCENE_FILTER_RANGES
+from grasp_pipeline.robot.depth_noise import DepthNoiseConfig
+from grasp_pipeline.robot.limits import GRIPPER_MAX_WIDTH_M
 
 
 @pytest.mark.parametrize("cls, kwargs, words", [
@@ -36,7 +38,8 @@ from grasp_pipeline.perception.config import _OBB_RANGES, _SCENE_FILTER_RANGES
     (ObbConfig, {"n_theta": 1}, ["obb.n_theta", "= 1", "[2, 100000]"]),
     (ObbConfig, {"window": None}, ["obb.window", "None", "not an integer"]),
     (ObbConfig, {"max_age_s": float("inf")}, ["max_age_s", "not a finite", "> 0 s"]),
-    (ObbConfig, {"min_graspable_width": 0.09}, ["min_graspable_width", "gripper_open = 0.08"]),
+    (ObbConfig, {"min_graspable_width": 0.09}, ["obb.min_graspable_width", "[0, 0.08] m"]),
+    (DepthNoiseConfig, {"depth_noise_sigma_m": 0.0}, ["depth_noise.depth_noise_sigma_m", "(0, 0.1] m"]),
 ])
 def test_bad_values_raise_config_error_naming_parameter_value_and_range(cls, kwargs, words):
     with pytest.raises(ConfigError) as info:
@@ -58,7 +61,7 @@ def test_the_yaml_and_override_path_gives_the_same_errors():
 def test_valid_numpy_and_int_values_are_accepted():
     cfg = SceneFilterConfig(cluster_eps=np.float32(0.02), plane_ransac_iters=np.int64(300), band=0,
                             plane_lock=np.bool_(False), seed=2**64 - 1)
-    core = cfg.to_core()
+    core = cfg.to_core(DepthNoiseConfig())
     assert core.plane_ransac_iters == 300 and core.seed == 2**64 - 1 and core.plane_lock is False
 
 
@@ -82,10 +85,10 @@ def _accepts_python(cls, name, value):
         return False
 
 
-def _accepts_cpp(core_cls, name, value):
+def _accepts_cpp(core_cls, name, value, core_name=None):
     params = core_cls()
     try:
-        setattr(params, name, value)
+        setattr(params, core_name or name, value)
         params.validate()
         return True
     except (ValueError, TypeError):
@@ -104,6 +107,32 @@ def test_python_ranges_agree_with_the_cpp_validate_at_every_bound(cls, core_cls,
         for value in _probe_values(rule, is_int):
             py_ok, cpp_ok = _accepts_python(cls, name, value), _accepts_cpp(core_cls, name, value)
             assert py_ok == cpp_ok, f"{name} = {value!r}: python {py_ok}, C++ {cpp_ok}"
+
+
+@pytest.mark.parametrize("core_cls, core_names", [
+    (_core.SceneFilterParams, {"depth_noise_sigma_m": "depth_noise_sigma_m",
+                               "depth_noise_ref_range_m": "depth_noise_ref_range_m",
+                               "depth_noise_exponent": "depth_noise_exponent"}),
+    (_core.ObbParams, {"depth_noise_sigma_m": "depth_noise_sigma"}),
+])
+def test_the_depth_noise_ranges_agree_with_the_cpp_validate_at_every_bound(core_cls, core_names):
+    for name, core_name in core_names.items():
+        for value in _probe_values(DepthNoiseConfig.RANGES[name], False):
+            py_ok = _accepts_python(DepthNoiseConfig, name, value)
+            cpp_ok = _accepts_cpp(core_cls, name, value, core_name)
+            assert py_ok == cpp_ok, f"{name} = {value!r}: python {py_ok}, C++ {core_name} {cpp_ok}"
+
+
+def test_the_cpp_sets_take_the_sensor_noise_and_the_robot_opening_from_their_one_definition():
+    noise = DepthNoiseConfig(depth_noise_sigma_m=0.003, depth_noise_ref_range_m=0.5, depth_noise_exponent=1.5)
+    sf, obb = SceneFilterConfig().to_core(noise), ObbConfig().to_core(noise)
+    assert (sf.depth_noise_sigma_m, sf.depth_noise_ref_range_m, sf.depth_noise_exponent) == (0.003, 0.5, 1.5)
+    assert obb.depth_noise_sigma == 0.003 and obb.gripper_open == GRIPPER_MAX_WIDTH_M
+    # neither set can be given its own value of these facts
+    for cls, name in ((SceneFilterConfig, "depth_noise_sigma_m"), (ObbConfig, "depth_noise_sigma"),
+                      (ObbConfig, "gripper_open")):
+        with pytest.raises(ConfigError, match="unknown parameter"):
+            build_config(cls, {name: 0.002}, section="x")
 
 
 @pytest.mark.parametrize("name, value, exc, words", [

@@ -12,6 +12,7 @@ from grasp_pipeline.objects.builtin import builtin_object
 from grasp_pipeline.settings import load_settings
 from grasp_pipeline.sim.ground_truth import object_truths
 from grasp_pipeline.sim.scene_spec import ObjectSpec, SceneSpec
+from grasp_pipeline.sim.work_cell import table_top_z_m
 
 #: builtin object → (x, y) on the table [m]
 PLACES = {"red_mug": (0.45, -0.13), "tall_bottle": (0.44, 0.02), "slim_can": (0.47, 0.15),
@@ -19,7 +20,7 @@ PLACES = {"red_mug": (0.45, -0.13), "tall_bottle": (0.44, 0.02), "slim_can": (0.
 
 
 def _scene(settings) -> SceneSpec:
-    top = settings.sim.table_top_z_m
+    top = table_top_z_m()
     objects = []
     for i, (name, (x, y)) in enumerate(PLACES.items()):
         m = builtin_object(name)

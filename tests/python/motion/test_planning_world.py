@@ -79,9 +79,9 @@ def test_lifting_the_held_object_clears_its_stray_environment_points(planner):
     world = PlanningWorld(planner)
     box = OrientedBox(np.array([0.5, 0.0, 0.25]), np.eye(3), np.array([0.05, 0.05, 0.10]))
     stray = np.array([[0.52, 0.02, 0.28], [0.49, -0.02, 0.24]])
-    table = np.array([[0.5, 0.0, 0.2], [0.6, 0.1, 0.2]])
+    table = np.array([[0.5, 0.0, 0.2], [0.6, 0.1, 0.2], [0.51, 0.01, 0.208]])  # within the band
     plane = type("Plane", (), {"n": np.array([0.0, 0.0, 1.0]), "c": -0.2})()
-    world.set_perceived(PerceivedScene(np.vstack([stray, table]), [box], [3], plane=plane))
+    world.set_perceived(PerceivedScene(np.vstack([stray, table]), [box], [3], plane=plane, band_m=0.01))
     world.commit()
     T = _tcp_down(0.5, 0.0, 0.28)
     world.attach(f"{PERCEIVED_PREFIX}3", _held_points(T, depth=0.08), T)

@@ -284,6 +284,7 @@ class FakeLoop:
 
     def __init__(self) -> None:
         self.plane = SimpleNamespace(n=np.array([0.0, 0.0, 1.0]), c=-0.2, height_m=0.2)
+        self.band_m = 0.01  # the scene filter's band above it
         self.latest = None
         self.frames = 0
         self.selector = SimpleNamespace(best_grasp=None)

@@ -74,7 +74,7 @@ def test_table_plane_reprojects_to_its_height_within_noise(make_world):
 
 
 def test_noise_free_plane_is_exact(make_world):
-    world = make_world(camera_config=load_camera_config(overrides={"noise_sigma_m": 0.0}))
+    world = make_world(camera_config=load_camera_config(overrides={"add_noise": False}))
     P = _table_points(world.capture(), world)
     assert np.abs(P[:, 2] - TABLE_Z).max() < 0.0005
 
@@ -123,7 +123,7 @@ def test_frames_come_at_30_hz_of_simulated_time(make_world):
 
 
 def test_raycast_fallback_agrees_with_gl(make_world):
-    cfg = {"noise_sigma_m": 0.0, "width_px": 320, "height_px": 240}
+    cfg = {"add_noise": False, "width_px": 320, "height_px": 240}
     gl = make_world(camera_config=load_camera_config(overrides=dict(cfg, backend="gl")))
     rc = make_world(camera_config=load_camera_config(overrides=dict(cfg, backend="raycast")))
     fg, fr = gl.capture(), rc.capture()

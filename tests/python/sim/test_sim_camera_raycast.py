@@ -20,7 +20,7 @@ from grasp_pipeline.sim.world import SimWorld
 
 
 def _config():
-    return dataclasses.replace(load_camera_config(), noise_sigma_m=0.0, backend="raycast")
+    return dataclasses.replace(load_camera_config(), add_noise=False, backend="raycast")
 
 
 def _reference(cam: DepthCamera, T: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -74,8 +74,8 @@ def test_rgb_is_aligned_with_depth(make_world, backend):
 
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_rgb_off_gives_none_and_leaves_depth_unchanged(make_world, backend):
-    on = _world(make_world, backend, noise_sigma_m=0.0)
-    off = _world(make_world, backend, noise_sigma_m=0.0, rgb=False)
+    on = _world(make_world, backend, add_noise=False)
+    off = _world(make_world, backend, add_noise=False, rgb=False)
     f_on, f_off = on.capture(), off.capture()
     assert f_off.rgb is None and f_on.rgb is not None
     np.testing.assert_array_equal(f_on.depth, f_off.depth)
@@ -85,7 +85,7 @@ def test_rgb_off_gives_none_and_leaves_depth_unchanged(make_world, backend):
 
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_every_object_is_labelled_where_it_really_is(make_world, backend):
-    world, f, labels = _labelled(make_world, backend, noise_sigma_m=0.0)
+    world, f, labels = _labelled(make_world, backend, add_noise=False)
     flat = labels.reshape(-1)
     truths = object_truths(world)
     assert set(np.unique(flat)) == {NO_OBJECT, 0, 1, 2}
@@ -102,8 +102,8 @@ def test_every_object_is_labelled_where_it_really_is(make_world, backend):
 
 
 def test_gl_and_raycast_labels_agree(make_world):
-    _, fg, lg = _labelled(make_world, "gl", noise_sigma_m=0.0)
-    _, fr, lr = _labelled(make_world, "raycast", noise_sigma_m=0.0)
+    _, fg, lg = _labelled(make_world, "gl", add_noise=False)
+    _, fr, lr = _labelled(make_world, "raycast", add_noise=False)
     assert fg.backend != "raycast" and fr.backend == "raycast"
     both = np.isfinite(fg.depth) & np.isfinite(fr.depth)
     assert both.mean() > 0.9

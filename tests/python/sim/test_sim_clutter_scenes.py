@@ -9,6 +9,7 @@ from grasp_pipeline.objects.model import ObjectModel
 from grasp_pipeline.sim.clutter_config import ClutterConfig
 from grasp_pipeline.sim.clutter_scenes import packed_scene, pile_scene
 from grasp_pipeline.sim.config import load_sim_config
+from grasp_pipeline.sim.work_cell import table_top_z_m
 from grasp_pipeline.sim.world import SimWorld
 
 SIM = load_sim_config()
@@ -50,7 +51,7 @@ def test_packed_scenes_are_deterministic_upright_and_not_touching():
     assert len(a.objects) >= 3 and _inside_square(a)
     assert _object_contacts(a) == 0
     for o in a.objects:  # upright on the table
-        assert o.position_m[2] == pytest.approx(SIM.table_top_z_m + o.size_m[2] / 2, abs=1e-3)
+        assert o.position_m[2] == pytest.approx(table_top_z_m() + o.size_m[2] / 2, abs=1e-3)
     assert packed_scene(MODELS, 4, CFG, SIM).objects[0].position_m != a.objects[0].position_m
 
 

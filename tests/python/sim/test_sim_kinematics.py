@@ -65,6 +65,15 @@ def test_limits_in_model_are_frankas():
     assert rm.PANDA_QD_MAX.shape == rm.PANDA_QDD_MAX.shape == (7,)
 
 
+def test_the_hand_in_the_model_has_the_published_opening_and_force():
+    model = rm.load_robot_model()
+    grip = model.actuator(rm.GRIPPER_ACTUATOR)
+    assert tuple(grip.ctrlrange) == (0.0, rm.GRIPPER_MAX_WIDTH_M)
+    assert tuple(grip.forcerange) == (-rm.GRIPPER_MAX_FORCE_N, rm.GRIPPER_MAX_FORCE_N)
+    for name in rm.FINGER_JOINT_NAMES:  # each finger travels half the gap
+        assert tuple(model.joint(name).range) == (0.0, rm.GRIPPER_MAX_WIDTH_M / 2), name
+
+
 def test_masses_are_the_identified_ones():
     model = rm.load_robot_model()
     link_masses = [model.body(f"panda_link{i}").mass[0] for i in range(8)]

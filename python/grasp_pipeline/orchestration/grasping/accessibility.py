@@ -5,7 +5,8 @@ the object on that axis. :func:`accessibility_m` measures, on the table plane, t
 around those two finger footprints: the smallest distance from either footprint (a rectangle
 ``finger_thickness_m`` × ``finger_width_m``, placed ``open_margin_m / 2`` outside the object's
 box along the closing axis) to any *other* object's box footprint — negative when they
-overlap — for the preferred closing axis and, when it fits the gripper, the perpendicular one;
+overlap — for the preferred closing axis and, when the fingers open the whole margin around it
+(``max_width_m``: :func:`~.opening.full_margin_width_m`), the perpendicular one;
 the better of the two counts. Picking the most accessible object first frees its neighbours
 (VGN-style declutter order is by grasp quality; ours is by this clearance).
 """

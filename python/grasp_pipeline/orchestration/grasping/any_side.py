@@ -177,7 +177,7 @@ class AnySideGraspSource:
     def _limits(self, request) -> ContactLimits:
         g, f = self.grasp_config, self.fit
         opening = self.hand.max_opening_m
-        return ContactLimits(max_width_m=min(request.max_width_m + g.open_margin_m, opening) - f.min_open_margin_m,
+        return ContactLimits(max_width_m=request.max_width_m,
                              min_width_m=request.min_width_m, open_margin_m=g.open_margin_m,
                              max_opening_m=opening, palm_clearance_m=g.palm_clearance_m,
                              table_clearance_m=g.table_clearance_m,

@@ -17,9 +17,10 @@ line's own frame (``c`` along the closing axis, ``a`` across it, ``h`` above the
   above the pads' lowest point — at least ``min_material_points`` of them; their span along
   ``c`` — clipped to the tracked box, whose NADIR measurement bounds the object better than
   an oblique frame's smeared edges (8–9 mm wider on far objects) — is the width to close on
-  (the pads are centred on it), which must fit the opening
-  with at least ``min_open_margin_m`` to spare (the fingers open to width + ``open_margin_m``,
-  at most the gripper's opening: a 68 mm mug is grasped with 6 mm to spare on each side);
+  (the pads are centred on it), which must be at most the request's ``max_width_m``, the usable
+  opening (:func:`~.opening.max_grasp_width_m`: the opening less ``min_open_margin_m``; the
+  fingers open to width + ``open_margin_m``, at most the gripper's opening: a 68 mm mug is
+  grasped with 6 mm to spare on each side);
   at each end the material within ``contact_depth_m`` of it must span at least
   ``min_contact_fraction`` of the pad's width (an L's arm end under a pad's corner is no grip);
 * **the planner's view**: the planner models the neighbours as boxes, kept its collision
@@ -53,6 +54,7 @@ import numpy as np
 
 from ... import _core
 from ...robot.description import HandClearances
+from ...robot.limits import GRIPPER_MAX_WIDTH_M
 from ..config import GraspConfig, GraspFitConfig
 from ..scene.scene_cloud import ENVIRONMENT, SceneCloud
 
@@ -143,7 +145,7 @@ class LineLimits:
     top_h: float
     palm_clearance_m: float
     cfg: GraspFitConfig
-    max_opening_m: float = 0.08
+    max_opening_m: float = GRIPPER_MAX_WIDTH_M  # the hand's largest opening (robot/limits.py)
     box_half_c: float = np.inf  # half the tracked box's extent along the closing axis
 
     def opening(self, width_m: float) -> float:
@@ -394,9 +396,8 @@ def _points_near(track, cloud: SceneCloud):
 
 def _limits(track, hand: HandClearances, grasp_cfg: GraspConfig, cfg: GraspFitConfig,
             min_width_m: float, max_width_m: float) -> LineLimits:
-    open_max = max_width_m + grasp_cfg.open_margin_m  # the gripper's opening
-    return LineLimits(hand, grasp_cfg.open_margin_m, min_width_m, open_max - cfg.min_open_margin_m,
-                      float(track.smoothed.height_m), grasp_cfg.palm_clearance_m, cfg, open_max)
+    return LineLimits(hand, grasp_cfg.open_margin_m, min_width_m, max_width_m,
+                      float(track.smoothed.height_m), grasp_cfg.palm_clearance_m, cfg)
 
 
 def box_grasp_blocked(track, cloud: SceneCloud, grasp, hand: HandClearances, grasp_cfg: GraspConfig,

@@ -33,7 +33,8 @@ class GraspRequest:
     ``anchor_xy``: where the user (or the default target list) pointed [m, world];
     ``target``: the selected track (``_core.Track``) or None; ``published``: the best grasp
     the selection published for it (method.md §5) or None; ``scene``: the perceived scene (points,
-    boxes); ``max_width_m``: the widest object the gripper can close on with its margin;
+    boxes); ``max_width_m``: the widest grasp, the gripper's usable opening
+    (:func:`~.opening.max_grasp_width_m`);
     ``cloud``: the scene's labelled points
     (:class:`~grasp_pipeline.orchestration.scene.scene_cloud.SceneCloud`) or None;
     ``min_width_m``: the narrowest graspable width; ``reach(grasp, pre_grasp_distance_m)``:

@@ -24,6 +24,7 @@ from ...robot.description import GRIPPER_MAX_WIDTH_M, HandClearances, hand_clear
 from ..config import GraspConfig, GraspFitConfig
 from ..scene.selection import perpendicular_grasp
 from .fit import HandSpheres, Neighbours, box_grasp_blocked, contact_height_m, fit_lines, rank_lines
+from .opening import full_margin_width_m
 from .source import GraspRequest
 
 log = logging.getLogger("grasp_pipeline.grasp")
@@ -139,7 +140,8 @@ class GeometricGraspSource:
         out = [] if request.published is None else [request.published]
         plane = request.scene.plane
         if request.target is not None and plane is not None:
-            alt = perpendicular_grasp(request.target, plane, request.max_width_m)
+            # the box heuristic models the fingers at the whole open_margin_m around the box
+            alt = perpendicular_grasp(request.target, plane, full_margin_width_m(self.config))
             if alt is not None:
                 out.append(alt)
             height = float(request.target.smoothed.height_m)

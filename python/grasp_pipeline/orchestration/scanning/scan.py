@@ -60,8 +60,9 @@ class ActiveScan:
 
     def __init__(self, runtime: Runtime, loop, motion, camera_in_flange: Optional[np.ndarray],
                  config: ScanConfig | None = None, max_width_m: Optional[float] = None) -> None:
-        """``max_width_m``: the widest object the gripper takes (its opening less the fitted
-        grasps' least spare; the closer look's "wide" rule; None: only the outline rule)."""
+        """``max_width_m``: the widest object the gripper takes, its usable opening
+        (:func:`~..grasping.opening.max_grasp_width_m`; the closer look's "wide" rule; None: only
+        the outline rule)."""
         self.rt = runtime
         self.max_width_m = float("inf") if max_width_m is None else float(max_width_m)
         self.loop = loop

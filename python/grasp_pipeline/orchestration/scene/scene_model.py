@@ -30,4 +30,4 @@ def snapshot(loop, exclude_tids=()) -> PerceivedScene:
     return PerceivedScene(np.asarray(env, dtype=np.float64), [track_box(t) for t in tracks],
                           [int(t.tid) for t in tracks], q,
                           None if latest is None else np.asarray(latest.T_world_camera, float),
-                          loop.plane, points)
+                          loop.plane, points, float(loop.band_m))

@@ -13,6 +13,8 @@ import numpy as np
 import trimesh
 
 from grasp_pipeline.motion.perceived_scene import PerceivedScene
+from grasp_pipeline.orchestration.config import GraspFitConfig
+from grasp_pipeline.orchestration.grasping.opening import max_grasp_width_m
 from grasp_pipeline.orchestration.grasping.source import GraspRequest
 from grasp_pipeline.orchestration.scene.scene_cloud import ENVIRONMENT, SceneCloud
 from grasp_pipeline.orchestration.scene.tracks import track_box
@@ -94,7 +96,7 @@ class Scene:
                                plane=types.SimpleNamespace(n=UP, c=0.0),
                                object_points=[self.cloud.of(t.tid) for t in tracks])
         return GraspRequest(anchor_xy=tuple(tracks[0].smoothed.center[:2]), target=self.track(tid),
-                            published=None, scene=scene, max_width_m=0.06, cloud=self.cloud,
+                            published=None, scene=scene, max_width_m=max_grasp_width_m(GraspFitConfig()), cloud=self.cloud,
                             unknown=self.unknown if unknown else None)
 
 

@@ -11,6 +11,7 @@ from grasp_pipeline.orchestration.config import GraspConfig, GraspFitConfig
 from grasp_pipeline.orchestration.grasping.fit import (FittedLine, LineLimits, Neighbours,
                                                        box_grasp_blocked, box_samples, check_line,
                                                        fit_lines, rank_lines)
+from grasp_pipeline.orchestration.grasping.opening import max_grasp_width_m
 from grasp_pipeline.orchestration.grasping.source import GraspRequest
 from grasp_pipeline.orchestration.grasping.top_down import GeometricGraspSource, planner_hand_spheres
 from grasp_pipeline.motion.perceived_scene import PerceivedScene
@@ -22,10 +23,11 @@ HAND = HandClearances(pad_below_tcp_m=0.011, palm_above_tcp_m=0.0394, finger_thi
                       finger_width_m=0.019)
 CFG = GraspFitConfig()
 GRASP = GraspConfig()
+MAX_WIDTH = max_grasp_width_m(CFG)  # the usable opening, 72 mm
 
 
 def _fit(track, cloud, boxes=(), spheres=None):
-    lines = fit_lines(track, cloud, HAND, GRASP, CFG, 0.005, 0.06, Neighbours(tuple(boxes)), 0.005, spheres)
+    lines = fit_lines(track, cloud, HAND, GRASP, CFG, 0.005, MAX_WIDTH, Neighbours(tuple(boxes)), 0.005, spheres)
     return lines, rank_lines(lines, CFG)
 
 
@@ -136,7 +138,7 @@ def test_unsegmented_environment_points_under_the_hand_count_like_a_neighbour_bo
     grid = (0.005 + 0.0043, 0.005, 0.05)
 
     def fit(grid_):
-        lines = fit_lines(track_of(0, cube), cloud, HAND, GRASP, CFG, 0.005, 0.06, (), 0.005,
+        lines = fit_lines(track_of(0, cube), cloud, HAND, GRASP, CFG, 0.005, MAX_WIDTH, (), 0.005,
                           spheres, grid_)
         return lines, rank_lines(lines, CFG)
 
@@ -179,9 +181,9 @@ def test_check_line_needs_material_on_both_pads_across_their_width():
 def test_the_source_proposes_fitted_grasps_with_points_and_none_without_a_box_grasp():
     cube = block(0.50, 0.54, 0.00, 0.04, 0.0, 0.04)
     src = GeometricGraspSource(GRASP, HAND, CFG)
-    req = GraspRequest((0.52, 0.02), track_of(0, cube), None, PerceivedScene(np.zeros((0, 3))), 0.06)
+    req = GraspRequest((0.52, 0.02), track_of(0, cube), None, PerceivedScene(np.zeros((0, 3))), MAX_WIDTH)
     assert src.propose(req) == []  # no published grasp, no plane: nothing to fall back on
-    req = GraspRequest((0.52, 0.02), track_of(0, cube), None, PerceivedScene(np.zeros((0, 3))), 0.06,
+    req = GraspRequest((0.52, 0.02), track_of(0, cube), None, PerceivedScene(np.zeros((0, 3))), MAX_WIDTH,
                        cloud=scene((0, cube), (ENV, table())))
     grasps = src.propose(req)
     assert grasps and abs(grasps[0].width_m - 0.04) < 0.004
@@ -193,7 +195,7 @@ def test_the_source_proposes_fitted_grasps_with_points_and_none_without_a_box_gr
 def test_the_source_says_why_it_proposes_no_grasp():
     src = GeometricGraspSource(GRASP, HAND, CFG)
     wide = block(0.50, 0.60, 0.00, 0.10, 0.0, 0.04)  # 100 mm both ways: wider than the 60 mm opening
-    req = GraspRequest((0.55, 0.05), track_of(0, wide), None, PerceivedScene(np.zeros((0, 3))), 0.06,
+    req = GraspRequest((0.55, 0.05), track_of(0, wide), None, PerceivedScene(np.zeros((0, 3))), MAX_WIDTH,
                        cloud=scene((0, wide), (ENV, table())))
     assert src.propose(req) == []
     assert src.last_refusal.startswith("no closing line passes the point checks (") and "box grasps: none" in src.last_refusal
@@ -282,7 +284,7 @@ def test_a_box_grasp_whose_finger_would_enter_a_neighbour_is_not_offered(closing
     walls = [block(0.555, 0.565, -0.03, 0.07, 0.0, 0.05), block(0.475, 0.485, -0.03, 0.07, 0.0, 0.05)]
     cloud = scene((0, cube), (1, walls[0]), (2, walls[1]), (ENV, table()))
     g = _box_grasp(closing, (0.52, 0.02, 0.02), 0.04)  # opens to 60 mm: 10 mm into each wall along x
-    why = box_grasp_blocked(track_of(0, cube), cloud, g, HAND, GRASP, CFG, 0.06)
+    why = box_grasp_blocked(track_of(0, cube), cloud, g, HAND, GRASP, CFG, MAX_WIDTH)
     assert bool(why) == blocked and (not why or "finger blocked" in why)
 
 
@@ -296,8 +298,8 @@ def test_a_box_grasp_whose_hand_meets_a_neighbours_box_is_not_offered(closing, r
     cloud = scene((0, cube), (ENV, table()))
     towering = OrientedBox(np.array([0.52, 0.135, 0.10]), np.eye(3), np.array([0.06, 0.06, 0.20]))
     g = _box_grasp(closing, (0.52, 0.02, 0.02), 0.04)
-    assert box_grasp_blocked(track_of(0, cube), cloud, g, HAND, GRASP, CFG, 0.06) == ""  # points only
-    why = box_grasp_blocked(track_of(0, cube), cloud, g, HAND, GRASP, CFG, 0.06, Neighbours((towering,)), 0.005,
+    assert box_grasp_blocked(track_of(0, cube), cloud, g, HAND, GRASP, CFG, MAX_WIDTH) == ""  # points only
+    why = box_grasp_blocked(track_of(0, cube), cloud, g, HAND, GRASP, CFG, MAX_WIDTH, Neighbours((towering,)), 0.005,
                             planner_hand_spheres(0.04))
     assert bool(why) == refused and (not why or "meets a neighbour" in why)
 
@@ -311,7 +313,7 @@ def test_the_source_offers_a_box_grasp_only_where_its_fingers_come_down_free():
     track.smoothed.perp_width_m = 0.04
     along_x = _box_grasp((1.0, 0.0, 0.0), (0.52, 0.02, 0.02), 0.04)
     for parts, offered in (([(0, cube), (ENV, table())], 2), ([(0, cube), (1, wall), (ENV, table())], 1)):
-        req = GraspRequest((0.52, 0.02), track, along_x, PerceivedScene(np.zeros((0, 3)), plane=plane), 0.06,
+        req = GraspRequest((0.52, 0.02), track, along_x, PerceivedScene(np.zeros((0, 3)), plane=plane), MAX_WIDTH,
                            cloud=scene(*parts))
         assert len(src.from_box(req)) == offered  # the wall takes the x-closing finger's column
     assert len(src.from_box(replace(req, cloud=None))) == 2  # without points: nothing to judge by
@@ -326,7 +328,7 @@ def test_the_source_with_the_planners_model_leaves_out_a_box_grasp_the_planner_w
     along_x = _box_grasp((1.0, 0.0, 0.0), (0.52, 0.02, 0.02), 0.04)  # its perpendicular: along y
     plane = SimpleNamespace(n=UP, c=0.0)
     req = GraspRequest((0.52, 0.02), track, along_x,
-                       PerceivedScene(np.zeros((0, 3)), [towering], [1], plane=plane), 0.06,
+                       PerceivedScene(np.zeros((0, 3)), [towering], [1], plane=plane), MAX_WIDTH,
                        cloud=scene((0, cube), (ENV, table())))
     offered = GeometricGraspSource(GRASP, HAND, CFG, MotionConfig()).from_box(req)
     assert len(GeometricGraspSource(GRASP, HAND, CFG).from_box(req)) == 2  # points only: both
@@ -351,7 +353,7 @@ def test_a_neighbour_modelled_by_its_points_frees_the_empty_corner_of_its_box():
     grid = (0.005 + 0.0043, 0.005, 0.05)
 
     def free(neighbours):
-        lines = fit_lines(track_of(0, cube), cloud, HAND, GRASP, CFG, 0.005, 0.06, neighbours, 0.005,
+        lines = fit_lines(track_of(0, cube), cloud, HAND, GRASP, CFG, 0.005, MAX_WIDTH, neighbours, 0.005,
                           spheres, grid)
         return {(ln.axis, round(ln.offset_m, 4)) for ln in lines if ln.ok}
 

@@ -7,14 +7,16 @@ import numpy as np
 import pytest
 
 from grasp_pipeline import _core
-from grasp_pipeline.orchestration.config import GraspConfig
+from grasp_pipeline.orchestration.config import GraspConfig, GraspFitConfig
 from grasp_pipeline.orchestration.grasping.fit import contact_height_m
+from grasp_pipeline.orchestration.grasping.opening import max_grasp_width_m
 from grasp_pipeline.orchestration.grasping.source import GraspRequest
 from grasp_pipeline.orchestration.grasping.top_down import GeometricGraspSource
 from grasp_pipeline.robot.description import HAND_BODY, TCP_SITE, HandClearances, hand_clearances
 
 CFG = GraspConfig()
-HAND = HandClearances(pad_below_tcp_m=0.011, palm_above_tcp_m=0.0394)
+HAND = HandClearances(pad_below_tcp_m=0.011, palm_above_tcp_m=0.0394, finger_thickness_m=0.02,
+                      finger_width_m=0.019)
 
 
 def test_hand_clearances_come_from_the_model():
@@ -52,7 +54,7 @@ def test_geometric_source_raises_both_grasps_of_a_tall_object():
     R = np.column_stack([-n, np.cross(np.array([1.0, 0, 0]), -n), np.array([1.0, 0, 0])])
     published = _core.BestGrasp(R, np.array([0.5, 0.0, 0.3]), 0.05)
     scene = SimpleNamespace(plane=plane)
-    req = GraspRequest((0.5, 0.0), SimpleNamespace(smoothed=est), published, scene, 0.06)
+    req = GraspRequest((0.5, 0.0), SimpleNamespace(smoothed=est), published, scene, max_grasp_width_m(GraspFitConfig()))
     grasps = GeometricGraspSource(CFG, HAND).propose(req)
     assert len(grasps) == 2
     for g in grasps:

@@ -30,6 +30,7 @@ class FakeLoop:
     def __init__(self, robot: FakeRobot, tracks: list) -> None:
         self.robot, self._tracks = robot, tracks
         self.plane = _core.Plane([0.0, 0.0, 1.0], -TABLE_Z_M)
+        self.band_m = 0.01
         self.ready_camera_pose = np.eye(4)
         self.ready_camera_pose[:3, :3] = np.diag([1.0, -1.0, -1.0])  # looking down
         self.ready_camera_pose[:3, 3] = [0.4, 0.0, READY_CAMERA_Z_M]

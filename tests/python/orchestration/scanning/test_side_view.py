@@ -35,6 +35,7 @@ class FakeLoop:
         est = SimpleNamespace(center=CENTRE, R_box=np.eye(3), extents=np.array([0.1, 0.1, 0.1]))
         self.track = SimpleNamespace(tid=7, smoothed=est)
         self.plane = _core.Plane([0.0, 0.0, 1.0], -0.2)
+        self.band_m = 0.01
         self.ready_camera_pose = FRONT
         self.latest = None
 
