@@ -48,7 +48,8 @@ from ..report.output_lock import output_claim
 from ..report.serialize import check_writable, check_writable_dir
 from .clutter_round import clutter_settings, run_round
 from .grasp_bench import failures_by_stage, scene_seed, stats
-from .scheduler import JobSpec, run_jobs, worker_env
+from .jobs import JobSpec, worker_env
+from .scheduler import run_jobs
 
 log = logging.getLogger(__name__)
 

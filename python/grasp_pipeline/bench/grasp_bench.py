@@ -40,7 +40,8 @@ from ..app.run_command import sigterm_as_interrupt
 from ..report.output_lock import output_claim
 from ..report.serialize import check_writable, check_writable_dir
 from ..results import SceneRecord, SceneScanSummary
-from .scheduler import JobSpec, run_jobs, worker_env
+from .jobs import JobSpec, worker_env
+from .scheduler import run_jobs
 
 log = logging.getLogger(__name__)
 

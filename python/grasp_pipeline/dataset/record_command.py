@@ -60,7 +60,7 @@ def _postfix(records: list[dict]) -> str:
 
 
 def _jobs():
-    from ..bench.scheduler import JobSpec
+    from ..bench.jobs import JobSpec
 
     return JobSpec(run_fn=_record_task, failed_fn=_failed_job, postfix_fn=_postfix,
                    desc="record", tag="job")
