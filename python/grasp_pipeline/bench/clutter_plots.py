@@ -1,7 +1,8 @@
 """Plots (PNG, matplotlib Agg) and the markdown summary of the clutter benchmark.
 
-Input: the result dict of :func:`.clutter_bench.aggregate` (its ``round_rows`` carry every
-attempt). Nothing here reads ground truth or runs the pipeline.
+Input: the JSON form of a :class:`~.clutter_result.ClutterBenchResult` — as a results file
+holds it (its ``round_rows`` carry every attempt). Nothing here reads ground truth or runs the
+pipeline.
 """
 
 from __future__ import annotations

@@ -23,7 +23,7 @@ import traceback
 from pathlib import Path
 from typing import Optional
 
-from .grasp_bench import exception_category, reason_category
+from .failure_reasons import exception_category, reason_category
 
 log = logging.getLogger(__name__)
 

@@ -1,8 +1,8 @@
 """Plots (PNG, matplotlib Agg) and the markdown summary of the grasp benchmark.
 
-Input: the benchmark result dict of :func:`grasp_bench.aggregate` (its ``scene_rows`` carry
-the per-object errors, outcomes and timings). Nothing here reads ground truth or runs the
-pipeline.
+Input: the JSON form of a :class:`~.grasp_result.GraspBenchResult` — as a results file holds
+it, so a loaded file is drawn the same way (its ``scene_rows`` carry the per-object errors,
+outcomes and timings). Nothing here reads ground truth or runs the pipeline.
 """
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ import math
 from pathlib import Path
 from typing import Optional
 
-from .grasp_bench import ACCURACY_METRICS, YAW_KINDS
+from .accuracy import ACCURACY_METRICS, YAW_KINDS
 
 #: Accuracy panels: (JSON metric, axis label, NADIR target or None).
 ERROR_PANELS = (

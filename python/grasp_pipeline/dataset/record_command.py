@@ -125,7 +125,7 @@ def _batch(needed: int, rows: list[dict], a: dict) -> int:
 
 
 def _tasks(first_job: int, n: int, a: dict, work: Path) -> list[tuple]:
-    from ..bench.grasp_bench import scene_seed
+    from ..bench.seeds import scene_seed
     from .shards import shard_name
 
     out = []

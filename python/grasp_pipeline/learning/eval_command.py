@@ -118,7 +118,7 @@ def check_inputs(a: dict):
 
 
 def _tasks(a: dict, per_job: int, overrides: tuple) -> list[tuple]:
-    from ..bench.grasp_bench import scene_seed
+    from ..bench.seeds import scene_seed
 
     videos = None if not a["video"] else str(a["out"] / VIDEOS)
     out = []

@@ -9,16 +9,17 @@ import subprocess
 import sys
 from pathlib import Path
 
-from grasp_pipeline.bench.grasp_bench import strip_timings
+from grasp_pipeline.bench.grasp_result import strip_timings
 from grasp_pipeline.bench.workers_bench import _differences
 
-EXE = Path(sys.executable).parent / "grasp-pipeline"
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from faults import EXE, clean_env  # noqa: E402
 SEED, SCENES = 142, 2          # two one-object scenes (see test_bench_grasp)
 RUN_DEPENDENT = ("backend", "plots", "summary", "workers_requested")
 
 
 def _bench(backend: str, d: Path) -> dict:
-    env = {"PATH": f"{EXE.parent}:/usr/bin:/bin", "HOME": str(d), "LANG": "C.UTF-8"}
+    env = clean_env(d)  # (with PYTHONPATH when a source checkout is under test)
     res = subprocess.run([str(EXE), "--log-level", "WARNING", "bench", "grasp", "--scenes", str(SCENES),
                           "--seed", str(SEED), "--workers", "2", "--backend", backend,
                           "--json", "b.json", "--out", "out", "--no-progress"],
