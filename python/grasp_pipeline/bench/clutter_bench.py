@@ -47,7 +47,7 @@ from ..app.run_command import sigterm_as_interrupt
 from ..exceptions import InputError
 from ..report.output_lock import output_claim
 from ..report.serialize import check_writable, check_writable_dir
-from .clutter_result import ClutterBenchResult, ObjectSuccess, RatePair, SeedCounts
+from .clutter_result import ClutterBenchResult, ObjectSuccess, RatePair, RoundRecord, SeedCounts
 from .clutter_round import clutter_settings, run_round
 from .figures import failures_by_stage, rate, stats
 from .jobs import JobSpec, worker_env
@@ -61,7 +61,7 @@ PROTOCOLS = ("packed", "pile", "sparse")
 EXECUTED_STAGES = ("APPROACH", "CLOSE", "LIFT", "DONE", "PLACE", "VERIFY")
 
 
-def _counts(rows: list[dict]) -> dict[str, Any]:
+def _counts(rows: list[RoundRecord]) -> dict[str, Any]:
     """Rounds, objects placed, attempts, successes, GSR, DR of some round records (the count
     fields of :class:`~.clutter_result.SeedCounts` and of the result)."""
     placed = sum(r["objects_placed"] for r in rows)
@@ -89,7 +89,7 @@ def _over_seeds(per_seed: list[SeedCounts]) -> tuple[RatePair, RatePair]:
     return RatePair(gsr[0], dr[0]), RatePair(gsr[1], dr[1])
 
 
-def _success_by_object(rows: list[dict]) -> dict[str, ObjectSuccess]:
+def _success_by_object(rows: list[RoundRecord]) -> dict[str, ObjectSuccess]:
     """Per object model: how many were placed, attempted, picked."""
     counts: dict[str, list[int]] = {}
     for r in rows:
@@ -103,20 +103,20 @@ def _success_by_object(rows: list[dict]) -> dict[str, ObjectSuccess]:
             for m, (p, n, k) in sorted(counts.items())}
 
 
-def _segmentation(rows: list[dict]) -> dict:
+def _segmentation(rows: list[RoundRecord]) -> dict:
     from ..evaluation.segmentation import ObjectSegmentation, summarize
 
     scores = [ObjectSegmentation(**s) for r in rows for s in r["segmentation"]]
     return summarize(scores, sum(r["objects_placed"] for r in rows))
 
 
-def _grasp_bound(rows: list[dict]) -> dict:
+def _grasp_bound(rows: list[RoundRecord]) -> dict:
     from ..evaluation.object_outcomes import summarize
 
     return summarize([o for r in rows for o in r.get("object_outcomes") or []])
 
 
-def _end_reasons(rows: list[dict]) -> dict:
+def _end_reasons(rows: list[RoundRecord]) -> dict[str, int]:
     out: dict = {}
     for r in rows:
         key = r["end_reason"].split(" (")[0] or "unspecified"
@@ -124,7 +124,7 @@ def _end_reasons(rows: list[dict]) -> dict:
     return dict(sorted(out.items(), key=lambda kv: (-kv[1], kv[0])))
 
 
-def aggregate(rows: list[dict], protocol: str, objects: str, seeds: list[int], workers: int,
+def aggregate(rows: list[RoundRecord], protocol: str, objects: str, seeds: list[int], workers: int,
               wall_time_s: float, bound_config=None) -> ClutterBenchResult:
     """The benchmark's figures from the round records (a pure function); ``bound_config``: the
     ``grasp_bound`` parameters, written with the bound's figures. The run's own facts (status,
@@ -151,7 +151,7 @@ def aggregate(rows: list[dict], protocol: str, objects: str, seeds: list[int], w
         workers=int(workers), round_rows=tuple(rows))
 
 
-def _failed_round(task: tuple, error: str, wall_s: float) -> dict:
+def _failed_round(task: tuple, error: str, wall_s: float) -> RoundRecord:
     """The record of a round whose process died or timed out (its objects still count)."""
     from .clutter_round import round_record, round_scene
 
@@ -167,11 +167,11 @@ def _failed_round(task: tuple, error: str, wall_s: float) -> dict:
     return round_record(public, spec, None, None, error, wall_s, bound_config)
 
 
-def _run_task(task: tuple) -> dict:
+def _run_task(task: tuple) -> RoundRecord:
     return run_round(task[1])
 
 
-def _postfix(records: list[dict]) -> str:
+def _postfix(records: list[RoundRecord]) -> str:
     ok = sum(r["successes"] for r in records)
     return f"GSR {ok}/{sum(len(r['attempts']) for r in records)}, DR {ok}/{sum(r['objects_placed'] for r in records)}"
 
@@ -216,7 +216,7 @@ def _check_objects(protocol: str, objects: str) -> dict:
     return model_notes(object_set(objects))
 
 
-def run_status(rows: list[dict], interrupted: bool) -> tuple[str, str]:
+def run_status(rows: list[RoundRecord], interrupted: bool) -> tuple[str, str]:
     """(status, note): ``interrupted``; ``failed`` when no round ran to its end (each raised,
     timed out or its process died); ``partial`` when some did not; else ``complete``."""
     broken = [r for r in rows if r.get("error_category")]

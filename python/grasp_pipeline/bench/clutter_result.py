@@ -6,7 +6,7 @@ of :mod:`grasp_pipeline.evaluation` (segmentation, geometric bound)."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Optional
+from typing import Any, Optional, TypedDict
 
 from ..report.serialize import OMIT_IF_NONE
 from .figures import StageFailures, Stats
@@ -14,6 +14,32 @@ from .figures import StageFailures, Stats
 #: Fields that hold timings — the only ones allowed to differ between runs of one seed.
 TIMING_KEYS = ("wall_s", "wall_time_s", "time_per_attempt_s", "time_per_round_s",
                "rounds_per_hour", "timings", "snapshots")
+
+
+class RoundRecord(TypedDict):
+    """One round as its process records it (:func:`.clutter_round.round_record`): the task's
+    public fields, then what happened. ``attempts``: one row per pick attempt (object, model,
+    success; stage, reason and message when it failed); ``object_outcomes``: each object's
+    geometric bound and what happened to it (:mod:`grasp_pipeline.evaluation.object_outcomes`)."""
+
+    index: int
+    bench_seed: int
+    round: int
+    seed: int
+    protocol: str
+    objects: str
+    recording: Optional[str]
+    objects_placed: int
+    models: dict[str, str]
+    attempts: list[dict]
+    successes: int
+    end_reason: str
+    objects_left: Optional[int]
+    segmentation: list[dict]
+    error: Optional[str]
+    error_category: Optional[str]
+    timings: dict[str, float]
+    object_outcomes: list[dict]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -95,4 +121,4 @@ class ClutterBenchResult:
     interrupted_while: Optional[str] = field(default=None, metadata=OMIT_IF_NONE)
     plots: Optional[dict[str, str]] = field(default=None, metadata=OMIT_IF_NONE)
     summary: Optional[str] = None
-    round_rows: tuple[dict, ...] = ()
+    round_rows: tuple[RoundRecord, ...] = ()

@@ -25,8 +25,7 @@ from typing import Optional
 from ..report.serialize import to_jsonable, write_json
 from .figures import StageFailures, Stats
 from .grasp_bench import run_grasp_benchmark
-from .grasp_result import GraspBenchResult, RealTimeFactors, strip_timings
-from .workers_bench import _differences
+from .grasp_result import GraspBenchResult, RealTimeFactors, differences, strip_timings
 
 #: The target: on-demand throughput at least this many times the old path's.
 SPEEDUP_TARGET = 5.0
@@ -142,8 +141,8 @@ def run_frames_benchmark(scenes: int, seed: int = 0, workers: int = 2,
         speedup_cpu=_rounded(_ratio(new.scenes_per_minute_idle_cores, old.scenes_per_minute_idle_cores)),
         speedup_met=None if speedup is None else bool(speedup >= SPEEDUP_TARGET),
         outcomes_identical=not diffs, outcome_differences=tuple(diffs),
-        results_identical=not _differences(_comparable(old_json), _comparable(new_json), limit=1),
-        first_result_differences=tuple(_differences(_comparable(old_json), _comparable(new_json))))
+        results_identical=not differences(_comparable(old_json), _comparable(new_json), limit=1),
+        first_result_differences=tuple(differences(_comparable(old_json), _comparable(new_json))))
     if json_path is not None:
         write_json(json_path, result)
     return result

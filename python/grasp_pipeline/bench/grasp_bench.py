@@ -35,7 +35,7 @@ import time
 import traceback
 from dataclasses import replace
 from pathlib import Path
-from typing import Any, Optional
+from typing import TYPE_CHECKING, Any, Optional
 
 from ..app.run_command import sigterm_as_interrupt
 from ..report.output_lock import output_claim
@@ -48,6 +48,9 @@ from .grasp_result import GraspBenchResult
 from .jobs import JobSpec, worker_env
 from .scheduler import run_jobs
 from .seeds import scene_seed
+
+if TYPE_CHECKING:
+    from ..settings import Settings
 
 log = logging.getLogger(__name__)
 
@@ -174,7 +177,7 @@ def scene_record(index: int, seed: int, objects: list[dict], report: Optional[di
                        pick_rows=picks, timings=timings)
 
 
-def scene_settings(overrides: tuple = (None, ())):
+def scene_settings(overrides: tuple = (None, ())) -> "Settings":
     """The run's parameter sets with ``(config_file, sets)`` overrides (``--config``/``--set``)."""
     from ..app.sim_system import SECTIONS
     from ..settings import load_settings
@@ -198,7 +201,7 @@ def _spec_objects(seed: int, overrides: tuple = (None, ())) -> list[dict]:
              "position_m": [float(x) for x in o.position_m]} for o in spec.objects]
 
 
-def run_scene(index: int, seed: int, out_dir: str | Path, overrides: tuple = (None, ())) -> dict:
+def run_scene(index: int, seed: int, out_dir: str | Path, overrides: tuple = (None, ())) -> SceneRecord:
     """One benchmark scene in this process: never raises (errors become the record)."""
     t0 = time.perf_counter()
     objects: list[dict] = []
@@ -216,19 +219,19 @@ def run_scene(index: int, seed: int, out_dir: str | Path, overrides: tuple = (No
         return scene_record(index, seed, objects, None, error=text, wall_s=time.perf_counter() - t0)
 
 
-def _run_task(task: tuple) -> dict:
+def _run_task(task: tuple) -> SceneRecord:
     """Job function of the scheduler (in the spawned process): ``(index, seed, out_dir,
     overrides)`` → the scene record."""
     index, seed, out_dir, overrides = task
     return run_scene(index, seed, out_dir, overrides)
 
 
-def _failed_task(task: tuple, error: str, wall_s: float) -> dict:
+def _failed_task(task: tuple, error: str, wall_s: float) -> SceneRecord:
     index, seed, _out_dir, overrides = task
     return _failed_record(index, seed, error, wall_s, overrides)
 
 
-def _postfix(records: list[dict]) -> str:
+def _postfix(records: list[SceneRecord]) -> str:
     return f"picked {sum(r['picks'] for r in records)}/{sum(r['objects'] for r in records)}"
 
 
@@ -238,7 +241,7 @@ SCENE_JOBS = JobSpec(run_fn=_run_task, failed_fn=_failed_task, postfix_fn=_postf
 
 
 def _failed_record(index: int, seed: int, error: str, wall_s: float,
-                   overrides: tuple = (None, ())) -> dict:
+                   overrides: tuple = (None, ())) -> SceneRecord:
     try:
         objects = _spec_objects(seed, overrides)
     except Exception:  # the scene itself cannot be generated
@@ -303,7 +306,7 @@ def _scene_tasks(scenes: int, seed: int, out: Path, overrides: tuple) -> list[tu
     return tasks
 
 
-def _status(records: list[dict], interrupted: bool) -> tuple[str, str]:
+def _status(records: list[SceneRecord], interrupted: bool) -> tuple[str, str]:
     """(status, note): ``interrupted``; ``failed`` when every scene raised, timed out or lost its
     process; ``partial`` when some did; else ``complete``."""
     broken = [r for r in records if r.get("error")]

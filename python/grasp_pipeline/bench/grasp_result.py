@@ -126,3 +126,21 @@ def strip_timings(result: Any) -> Any:
     if isinstance(result, list):
         return [strip_timings(v) for v in result]
     return result
+
+
+def differences(a: Any, b: Any, path: str = "", limit: int = 10) -> list[str]:
+    """Up to ``limit`` paths where two JSON-like values (results' JSON forms) differ."""
+    out: list[str] = []
+    if isinstance(a, dict) and isinstance(b, dict):
+        for k in sorted(set(a) | set(b)):
+            if len(out) >= limit:
+                break
+            out += differences(a.get(k), b.get(k), f"{path}.{k}", limit - len(out))
+    elif isinstance(a, list) and isinstance(b, list) and len(a) == len(b):
+        for i, (x, y) in enumerate(zip(a, b)):
+            if len(out) >= limit:
+                break
+            out += differences(x, y, f"{path}[{i}]", limit - len(out))
+    elif a != b:
+        out.append(f"{path or '.'}: {a!r} != {b!r}")
+    return out

@@ -27,11 +27,14 @@ import tempfile
 import time
 import types
 from dataclasses import dataclass
-from typing import Any, Optional
+from typing import TYPE_CHECKING, Any, Optional
 
 import mujoco
 
 from .cpu_accounts import OTHER, CpuAccounts
+
+if TYPE_CHECKING:
+    from ..settings import Settings
 
 ACCOUNTS = ("physics", "render", "perception", "planning", "control", OTHER)
 
@@ -88,7 +91,7 @@ def _clock_pair_cpu_s(n: int = 2000) -> float:
     return (time.process_time() - t0) / n
 
 
-def run_pick_loop(scene: str, seed: int, objects: str, settings) -> PickLoopResult:
+def run_pick_loop(scene: str, seed: int, objects: str, settings: "Settings") -> PickLoopResult:
     """One declutter round of ``scene`` / ``seed`` / ``objects`` with ``settings``
     (``grasp_pipeline.settings.Settings`` of ``app.sim_system.SECTIONS``); returns the figures."""
     from ..app.run import default_grasp_source, run_pipeline

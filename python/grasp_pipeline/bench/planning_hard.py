@@ -17,12 +17,15 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
-from typing import Optional
+from typing import TYPE_CHECKING, Optional
 
 import numpy as np
 
 from ..motion.exceptions import MotionError
 from ..motion.validity import StateValidator
+
+if TYPE_CHECKING:
+    from ..settings import Settings
 
 #: Random states of the throughput measurement.
 THROUGHPUT_STATES = 200_000
@@ -70,7 +73,7 @@ class HardPlanningResult:
     hard_set: HardSetSummary
 
 
-def perceived_planner(seed: int, settings):
+def perceived_planner(seed: int, settings: "Settings"):
     """(system, motion planner) with the perceived packed scene after the rough view and scan."""
     from ..app.sim_system import build_system, make_scene
     from ..orchestration.scene.scene_model import snapshot
@@ -156,7 +159,7 @@ def summarize_hard(records: list[dict], wanted: int, scenes: int) -> HardSetSumm
         failures=tuple(r for r in records if not r["ok"])[:20])
 
 
-def run_hard_set(scenes: int, seed: int, pairs_per_scene: int, settings) -> HardPlanningResult:
+def run_hard_set(scenes: int, seed: int, pairs_per_scene: int, settings: "Settings") -> HardPlanningResult:
     """Throughput (first scene) and the hard set over packed scenes ``seed .. seed+scenes-1``."""
     rng = np.random.default_rng(seed)
     records, throughput = [], None

@@ -13,11 +13,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Optional
+from typing import Optional
 
 from ..report.serialize import to_jsonable, write_json
 from .grasp_bench import run_grasp_benchmark
-from .grasp_result import GraspBenchResult, strip_timings
+from .grasp_result import GraspBenchResult, differences, strip_timings
 
 #: The target: ``--workers 2`` at least this much faster than ``--workers 1``.
 SPEEDUP_TARGET = 1.6
@@ -46,24 +46,6 @@ class WorkersBenchResult:
     success_rate: dict[str, Optional[float]]
 
 
-def _differences(a: Any, b: Any, path: str = "", limit: int = 10) -> list[str]:
-    """Up to ``limit`` paths where two JSON-like values differ."""
-    out: list[str] = []
-    if isinstance(a, dict) and isinstance(b, dict):
-        for k in sorted(set(a) | set(b)):
-            if len(out) >= limit:
-                break
-            out += _differences(a.get(k), b.get(k), f"{path}.{k}", limit - len(out))
-    elif isinstance(a, list) and isinstance(b, list) and len(a) == len(b):
-        for i, (x, y) in enumerate(zip(a, b)):
-            if len(out) >= limit:
-                break
-            out += _differences(x, y, f"{path}[{i}]", limit - len(out))
-    elif a != b:
-        out.append(f"{path or '.'}: {a!r} != {b!r}")
-    return out
-
-
 def run_workers_benchmark(scenes: int, seed: int = 0, workers: int = 2,
                           json_path: Optional[str | Path] = None,
                           out_dir: str | Path = "out/bench_workers", progress: bool = True,
@@ -77,7 +59,7 @@ def run_workers_benchmark(scenes: int, seed: int = 0, workers: int = 2,
         runs[w] = run_grasp_benchmark(scenes=scenes, seed=seed, workers=w, json_path=out / f"w{w}.json",
                                       out_dir=out / f"w{w}", progress=progress, overrides=overrides)
     one, many = runs[1], runs[workers]
-    diffs = _differences(_comparable(one), _comparable(many))
+    diffs = differences(_comparable(one), _comparable(many))
     speedup = one.wall_time_s / many.wall_time_s if many.wall_time_s > 0 else None
     both = lambda value: {"1": value(one), str(workers): value(many)}  # noqa: E731
     result = WorkersBenchResult(

@@ -9,8 +9,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from grasp_pipeline.bench.grasp_result import strip_timings
-from grasp_pipeline.bench.workers_bench import _differences
+from grasp_pipeline.bench.grasp_result import differences, strip_timings
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from faults import EXE, clean_env  # noqa: E402
@@ -38,4 +37,4 @@ def test_ray_backend_gives_the_local_result(tmp_path):
     assert ray["backend"] == "ray" and local["backend"] == "local"
     assert ray["scenes"] == SCENES and ray["scenes_failed"] == 0
     same = lambda r: strip_timings({k: v for k, v in r.items() if k not in RUN_DEPENDENT})  # noqa: E731
-    assert _differences(same(local), same(ray)) == []
+    assert differences(same(local), same(ray)) == []
