@@ -75,7 +75,7 @@ def _add_record(sub: argparse._SubParsersAction) -> None:
                         "(open with 'rerun FILE.rrd'). Needs pip install 'grasp-pipeline[rerun]'")
     add_backend_options(r)
     add_config_options(r, "record, env, scene_filter, obb, camera, sim, clutter, motion, scan, grasp",
-                        "record.scene_azimuth_deg=90")
+                       "record.scene_azimuth_deg=90")
 
 
 def _add_recording_options(p: argparse.ArgumentParser) -> None:
@@ -116,7 +116,7 @@ def _add_eval(sub: argparse._SubParsersAction) -> None:
     _add_recording_options(e)
     add_backend_options(e)
     add_config_options(e, "env, record, scene_filter, obb, camera, sim, clutter, motion, scan, grasp",
-                        "env.time_limit_s=30")
+                       "env.time_limit_s=30")
 
 
 def _add_train(sub: argparse._SubParsersAction) -> None:
@@ -177,8 +177,8 @@ def _add_pick_options(p: argparse.ArgumentParser, out: str) -> None:
                         "camera, TCP paths, stages, series on simulated time); open it with "
                         "'rerun PATH.rrd'. Needs pip install 'grasp-pipeline[rerun]'")
     add_config_options(p, "scene_filter, obb, camera, sim, clutter, motion, scan, grasp, video, "
-                        "language, rerun",
-                        "grasp.lift_height_m=0.12")
+                       "language, rerun",
+                       "grasp.lift_height_m=0.12")
 
 
 def _add_run(sub: argparse._SubParsersAction) -> None:
