@@ -1,7 +1,8 @@
 """The benchmarks of ``grasp-pipeline bench``: one :class:`Benchmark` each — its name, its
 arguments (:mod:`.arguments`), its entry point on the parsed arguments (returning its typed
 result) and what the command prints. :mod:`grasp_pipeline.cli` builds the ``bench``
-sub-commands from :data:`BENCHMARKS`; adding a benchmark is adding its entry there.
+sub-commands from :data:`BENCHMARKS`: adding a benchmark is its entry there (with its
+arguments function and the call of its entry point); the command line needs no change.
 
 An entry point's module is imported only when its benchmark runs (building the command line
 imports none of them)."""
@@ -50,14 +51,14 @@ def _print_headline(text: str, result: Any, args: argparse.Namespace) -> int:
     return 1 if result.status == "failed" else 0
 
 
-def _perception(args):
+def _perception(args: argparse.Namespace):
     from .perception_bench import run_perception_benchmark
 
     return run_perception_benchmark(frames=args.frames, json_path=args.json,
                                     baseline_frames=0 if args.no_baseline else args.baseline_frames)
 
 
-def _sim(args):
+def _sim(args: argparse.Namespace):
     from .sim_bench import run_sim_benchmark
 
     return run_sim_benchmark(seconds=args.seconds, json_path=args.json,
@@ -66,14 +67,14 @@ def _sim(args):
                              overrides=_overrides(args))
 
 
-def _planning(args):
+def _planning(args: argparse.Namespace):
     from .planning_bench import run_planning_benchmark
 
     return run_planning_benchmark(scenes=args.scenes, seed=args.seed, json_path=args.json,
                                   overrides=_overrides(args), hard_pairs=args.hard, hard_only=args.hard_only)
 
 
-def _grasp(args):
+def _grasp(args: argparse.Namespace):
     from .grasp_bench import run_grasp_benchmark
 
     return run_grasp_benchmark(scenes=args.scenes, seed=args.seed, workers=args.workers, json_path=args.json,
@@ -82,27 +83,27 @@ def _grasp(args):
                                backend=args.backend, address=args.address)
 
 
-def _report_grasp(result, args) -> int:
+def _report_grasp(result: Any, args: argparse.Namespace) -> int:
     from .grasp_bench import headline
 
     return _print_headline(headline(result), result, args)
 
 
-def _workers(args):
+def _workers(args: argparse.Namespace):
     from .workers_bench import run_workers_benchmark
 
     return run_workers_benchmark(scenes=args.scenes, seed=args.seed, workers=args.workers, json_path=args.json,
                                  out_dir=args.out, progress=not args.no_progress, overrides=_overrides(args))
 
 
-def _frames(args):
+def _frames(args: argparse.Namespace):
     from .frames_bench import run_frames_benchmark
 
     return run_frames_benchmark(scenes=args.scenes, seed=args.seed, workers=args.workers, json_path=args.json,
                                 out_dir=args.out, progress=not args.no_progress, overrides=_overrides(args))
 
 
-def _clutter(args):
+def _clutter(args: argparse.Namespace):
     from .clutter_bench import run_clutter_benchmark
 
     return run_clutter_benchmark(protocol=args.protocol, objects=args.objects, rounds=args.rounds,
@@ -112,20 +113,20 @@ def _clutter(args):
                                  backend=args.backend, address=args.address, rerun_dir=args.rerun)
 
 
-def _report_clutter(result, args) -> int:
+def _report_clutter(result: Any, args: argparse.Namespace) -> int:
     from .clutter_bench import headline
 
     return _print_headline(headline(result), result, args)
 
 
-def _language(args):
+def _language(args: argparse.Namespace):
     from .language_bench import run_language_benchmark
 
     return run_language_benchmark(scenes=args.scene, seeds=args.seeds, json_path=args.json,
                                   overrides=_overrides(args))
 
 
-def _report_language(result, args) -> int:
+def _report_language(result: Any, args: argparse.Namespace) -> int:
     from .language_bench import summary_text
 
     print(summary_text(result, args.scene, args.seeds))
