@@ -3,8 +3,9 @@
 Sub-commands:
   demo                      the default headless demo: ``run`` on the reference scene
   run                       rough view, active scan, pick (and place) the selected objects
-  bench perception|sim|planning|grasp|workers|frames
-                            benchmarks that print figures and write JSON
+  bench perception|sim|planning|grasp|workers|frames|clutter|language
+                            benchmarks that print figures and write JSON (one entry each
+                            in grasp_pipeline.bench.registry)
   record                    the reference policy's episodes as a LeRobot dataset
   eval --policy DIR         a policy's success in the environment (closed loop, seeded scenes)
   train                     a small LeRobot policy (ACT) trained on a ``record`` dataset
@@ -23,6 +24,8 @@ import sys
 from pathlib import Path
 from typing import Optional
 
+from .cli_options import (add_backend_options, add_config_options, finite_float, non_negative_int,
+                          positive_float, positive_int)
 from .exceptions import GraspPipelineError
 from .messages import shorten
 
@@ -30,98 +33,13 @@ log = logging.getLogger("grasp_pipeline")
 
 
 def _add_bench(sub: argparse._SubParsersAction) -> None:
+    """``bench <name>``: one sub-command per benchmark of :data:`~.bench.registry.BENCHMARKS`."""
+    from .bench.registry import BENCHMARKS
+
     bench = sub.add_parser("bench", help="benchmarks (print figures, write JSON)")
     bsub = bench.add_subparsers(dest="bench", required=True)
-
-    p = bsub.add_parser("perception", help="per-frame perception speed vs the Python baseline")
-    p.add_argument("--frames", type=positive_int, default=50, help="frames to time (default 50)")
-    p.add_argument("--json", type=Path, required=True, help="where to write the JSON result")
-    p.add_argument("--baseline-frames", type=non_negative_int, default=5,
-                   help="frames for the slow Python/Open3D baseline (default 5)")
-    p.add_argument("--no-baseline", action="store_true",
-                   help="skip the baseline (then no speedup is reported)")
-
-    s = bsub.add_parser("sim", help="simulation real-time factors and the pick loop's CPU breakdown")
-    s.add_argument("--seconds", type=positive_float, default=5.0, help="simulated seconds")
-    s.add_argument("--json", type=Path, required=True)
-    s.add_argument("--pick-scene", default="packed", choices=["packed", "pile", "random", "sparse", "reference", "none"],
-                   help="scene of the pick-loop round (run --declutter; default packed; none: no round)")
-    s.add_argument("--pick-seed", type=non_negative_int, default=3, help="seed of the pick-loop scene (default 3)")
-    s.add_argument("--pick-objects", default="builtin", metavar="builtin|DIR",
-                   help="object set of a packed/pile pick-loop scene (default builtin)")
-    _add_config_options(s, "scene_filter, obb, camera, sim, clutter, motion, scan, grasp", "sim.object_count=[1,3]")
-
-    pl = bsub.add_parser("planning", help="planning success / speed on random scenes")
-    pl.add_argument("--scenes", type=positive_int, default=50)
-    pl.add_argument("--seed", type=non_negative_int, default=0)
-    pl.add_argument("--json", type=Path, required=True)
-    pl.add_argument("--hard", type=non_negative_int, default=0, metavar="N",
-                    help="also: checker throughput and N blocked-line start/goal pairs per perceived "
-                         "packed scene (seeds as --seed/--scenes)")
-    pl.add_argument("--hard-only", action="store_true", help="with --hard: skip the executed motions")
-    _add_config_options(pl, "scene_filter, obb, camera, sim, motion, scan, grasp", "sim.object_count=[1,3]")
-
-    g = bsub.add_parser(
-        "grasp", help="the whole product on random scenes: pick success, accuracy, time",
-        description="Rough view, scan and pick every object into the tray on N seeded random "
-                    "scenes (1-6 objects), scored against ground truth; scenes run in W spawned "
-                    "worker processes. Writes the JSON, OUT/summary.md and PNG plots.")
-    _add_scene_benchmark_options(g, scenes=100, workers=1, workers_help="worker processes (one thread each)",
-                                 out="out/bench_grasp", out_help="folder for summary.md, plots and per-scene reports")
-    g.add_argument("--scene-timeout", type=positive_float, default=1800.0, metavar="S",
-                   help="wall-clock limit of one scene in seconds (default 1800)")
-    _add_backend_options(g)
-    _add_config_options(g, "scene_filter, obb, camera, sim, motion, scan, grasp", "sim.object_count=[1,3]")
-
-    w = bsub.add_parser(
-        "workers", help="worker scaling: the same grasp-benchmark scenes with 1 and with W workers",
-        description="Runs 'bench grasp' twice on the same seeded scenes (1 worker, then W) and "
-                    "prints the wall-time speed-up and whether both runs gave the same results.")
-    _add_scene_benchmark_options(w, scenes=6, workers=2, workers_help="workers of the second run (default 2)",
-                                 out="out/bench_workers", out_help="folder for both runs' JSON, summaries and plots")
-    _add_config_options(w, "scene_filter, obb, camera, sim, motion, scan, grasp", "sim.object_count=[1,3]")
-    f = bsub.add_parser(
-        "frames", help="frames on demand vs continuous frames: throughput and per-object outcomes",
-        description="Runs 'bench grasp' twice on the same seeded scenes (camera.frames=continuous, "
-                    "the old path, then on_demand) and prints both throughputs, the speed-up and "
-                    "every object whose outcome (picked, failed stage and reason) differs.")
-    _add_scene_benchmark_options(f, scenes=6, workers=2, workers_help="worker processes of both runs",
-                                 out="out/bench_frames", out_help="folder for both runs' JSON, summaries and plots")
-    _add_config_options(f, "scene_filter, obb, camera, sim, motion, scan, grasp", "sim.object_count=[1,3]")
-    _add_clutter_bench(bsub)
-
-
-def _add_clutter_bench(bsub) -> None:
-    c = bsub.add_parser(
-        "clutter", help="cluttered tables (VGN/GIGA packed and pile protocols): GSR, declutter rate",
-        description="Rounds of the VGN/GIGA clutter benchmark with the whole product: build the "
-                    "scene, rough view, scan, then pick one object at a time into the tray, looking "
-                    "again after each attempt; a round ends when the table is clear, nothing graspable "
-                    "is proposed, or after 2 failed attempts in a row. Reports grasp success rate "
-                    "(successes / attempts) and declutter rate (successes / objects placed) per seed "
-                    "and mean +- std, failures by stage, success by object, segmentation quality at the "
-                    "scan, and times; writes the JSON, OUT/summary.md, plots and a PNG per failed attempt.")
-    c.add_argument("--protocol", choices=["packed", "pile", "sparse"], default="packed",
-                   help="scene protocol (default packed)")
-    c.add_argument("--objects", default="builtin", metavar="builtin|DIR",
-                   help="object set: the built-in set or a folder of URDF (VGN layout) / OBJ / STL objects")
-    c.add_argument("--rounds", type=positive_int, default=20, help="rounds per seed (default 20)")
-    c.add_argument("--seed", type=non_negative_int, nargs="+", default=[0],
-                   help="benchmark seed(s); each seed runs --rounds rounds (round seeds derive from it)")
-    c.add_argument("--workers", type=positive_int, default=1, help="worker processes (one thread each)")
-    c.add_argument("--json", type=Path, required=True, help="where to write the JSON result")
-    c.add_argument("--out", type=Path, default=Path("out/bench_clutter"),
-                   help="folder for summary.md, plots, failure PNGs and per-round reports")
-    c.add_argument("--no-progress", action="store_true", help="no progress bar")
-    c.add_argument("--round-timeout", type=positive_float, default=3600.0, metavar="S",
-                   help="wall-clock limit of one round in seconds (default 3600)")
-    c.add_argument("--rerun", type=Path, default=None, metavar="DIR",
-                   help="also write one Rerun recording per round into this folder, named like the "
-                        "round's folder: DIR/seed_<K>_round_<NNN>_scene_<S>.rrd (open one with "
-                        "'rerun FILE.rrd'). Needs pip install 'grasp-pipeline[rerun]'")
-    _add_backend_options(c)
-    _add_config_options(c, "scene_filter, obb, camera, sim, clutter, motion, scan, grasp, declutter, "
-                        "grasp_bound", "clutter.objects_per_scene=3")
+    for b in BENCHMARKS.values():
+        b.add_arguments(bsub.add_parser(b.name, help=b.help, description=b.description))
 
 
 def _add_record(sub: argparse._SubParsersAction) -> None:
@@ -155,9 +73,9 @@ def _add_record(sub: argparse._SubParsersAction) -> None:
     r.add_argument("--rerun", type=Path, default=None, metavar="DIR",
                    help="also a Rerun recording of every episode: DIR/episode_<i>_scene_<seed>.rrd "
                         "(open with 'rerun FILE.rrd'). Needs pip install 'grasp-pipeline[rerun]'")
-    _add_backend_options(r)
-    _add_config_options(r, "record, env, scene_filter, obb, camera, sim, clutter, motion, scan, grasp",
-                        "record.scene_azimuth_deg=90")
+    add_backend_options(r)
+    add_config_options(r, "record, env, scene_filter, obb, camera, sim, clutter, motion, scan, grasp",
+                       "record.scene_azimuth_deg=90")
 
 
 def _add_recording_options(p: argparse.ArgumentParser) -> None:
@@ -196,9 +114,9 @@ def _add_eval(sub: argparse._SubParsersAction) -> None:
     e.add_argument("--job-timeout", type=positive_float, default=3600.0, metavar="S",
                    help="wall-clock limit of one worker job in seconds (default 3600)")
     _add_recording_options(e)
-    _add_backend_options(e)
-    _add_config_options(e, "env, record, scene_filter, obb, camera, sim, clutter, motion, scan, grasp",
-                        "env.time_limit_s=30")
+    add_backend_options(e)
+    add_config_options(e, "env, record, scene_filter, obb, camera, sim, clutter, motion, scan, grasp",
+                       "env.time_limit_s=30")
 
 
 def _add_train(sub: argparse._SubParsersAction) -> None:
@@ -214,36 +132,7 @@ def _add_train(sub: argparse._SubParsersAction) -> None:
     t.add_argument("--seed", type=non_negative_int, default=0, help="seed of the initialisation and sampling")
     t.add_argument("--device", choices=["cpu", "cuda"], default="cpu", help="where to train")
     _add_recording_options(t)
-    _add_config_options(t, "train, record", "train.dim_model=256")
-
-
-def _add_backend_options(p: argparse.ArgumentParser) -> None:
-    """``--backend local|ray`` and ``--address`` of the benchmarks that fan out."""
-    p.add_argument("--backend", choices=["local", "ray"], default="local",
-                   help="local: spawned processes on this machine; ray: Ray tasks (pip install "
-                        "'grasp_pipeline[ray]'), a local Ray instance with --workers CPUs unless "
-                        "--address joins a cluster")
-    p.add_argument("--address", default=None, metavar="HOST:PORT",
-                   help="with --backend ray: the Ray cluster to join (e.g. 10.0.0.5:6379)")
-
-
-def _add_scene_benchmark_options(p: argparse.ArgumentParser, scenes: int, workers: int, workers_help: str,
-                                 out: str, out_help: str) -> None:
-    """``--scenes --seed --workers --json --out --no-progress`` of the scene benchmarks."""
-    p.add_argument("--scenes", type=positive_int, default=scenes, help=f"number of random scenes (default {scenes})")
-    p.add_argument("--seed", type=non_negative_int, default=0, help="benchmark seed; scene seeds derive from it")
-    p.add_argument("--workers", type=positive_int, default=workers, help=workers_help)
-    p.add_argument("--json", type=Path, required=True, help="where to write the JSON result")
-    p.add_argument("--out", type=Path, default=Path(out), help=out_help)
-    p.add_argument("--no-progress", action="store_true", help="no progress bar")
-
-
-def _add_config_options(p: argparse.ArgumentParser, sections: str, example: str) -> None:
-    """``--config FILE`` and repeatable ``--set name=value`` (see grasp_pipeline.settings)."""
-    p.add_argument("--config", default=None, metavar="FILE",
-                   help=f"YAML with one section per parameter set ({sections}) overriding the defaults")
-    p.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
-                   help=f"override one parameter (repeatable), e.g. --set {example}")
+    add_config_options(t, "train, record", "train.dim_model=256")
 
 
 def _add_perceive(sub: argparse._SubParsersAction) -> None:
@@ -272,29 +161,7 @@ def _add_perceive(sub: argparse._SubParsersAction) -> None:
                    metavar=("XMIN", "XMAX", "YMIN", "YMAX", "ZMIN", "ZMAX"),
                    help="workspace: drop points outside this box in world coordinates [m] "
                         "(workspace.workspace_crop_box_m)")
-    _add_config_options(p, "scene_filter / obb / workspace", "cluster_eps=0.02")
-
-
-def _checked(convert, ok, expected: str):
-    """An argparse type: ``convert(text)`` that must satisfy ``ok``, else a message."""
-    def parse(text: str):
-        try:
-            v = convert(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"expected {expected}, got {text!r}") from None
-        if not ok(v):
-            raise argparse.ArgumentTypeError(f"expected {expected}, got {text}")
-        return v
-
-    parse.__name__ = expected
-    return parse
-
-
-#: argparse types: whole numbers >= 1 / >= 0, numbers > 0 / finite (NaN and inf refused).
-positive_int = _checked(int, lambda v: v >= 1, "a whole number >= 1")
-non_negative_int = _checked(int, lambda v: v >= 0, "a whole number >= 0")
-positive_float = _checked(float, lambda v: 0 < v < float("inf"), "a finite number > 0")
-finite_float = _checked(float, lambda v: abs(v) < float("inf"), "a finite number")
+    add_config_options(p, "scene_filter / obb / workspace", "cluster_eps=0.02")
 
 
 def _add_pick_options(p: argparse.ArgumentParser, out: str) -> None:
@@ -309,9 +176,9 @@ def _add_pick_options(p: argparse.ArgumentParser, out: str) -> None:
                    help="also write a Rerun recording of the run (3-D point cloud, boxes, grasps, "
                         "camera, TCP paths, stages, series on simulated time); open it with "
                         "'rerun PATH.rrd'. Needs pip install 'grasp-pipeline[rerun]'")
-    _add_config_options(p, "scene_filter, obb, camera, sim, clutter, motion, scan, grasp, video, "
-                        "language, rerun",
-                        "grasp.lift_height_m=0.12")
+    add_config_options(p, "scene_filter, obb, camera, sim, clutter, motion, scan, grasp, video, "
+                       "language, rerun",
+                       "grasp.lift_height_m=0.12")
 
 
 def _add_run(sub: argparse._SubParsersAction) -> None:
@@ -361,78 +228,13 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _print_json(result: dict) -> None:
-    from .report.serialize import dumps
-
-    print(dumps(result, sort_keys=True))
-
-
-def _bench_sim(args: argparse.Namespace) -> None:
-    from .bench.sim_bench import run_sim_benchmark
-
-    _print_json(run_sim_benchmark(
-        seconds=args.seconds, json_path=args.json,
-        pick_scene=None if args.pick_scene == "none" else args.pick_scene, pick_seed=args.pick_seed,
-        pick_objects=args.pick_objects, overrides=(args.config, args.sets)))
-
-
 def _run_bench(args: argparse.Namespace) -> int:
-    """The ``bench`` sub-commands; the exit code (1 when no scene or round of ``bench grasp`` /
-    ``bench clutter`` ran to its end: status ``failed``)."""
-    if args.bench == "perception":
-        from .bench.perception_bench import run_perception_benchmark
+    """``bench <name>``: its entry point, then what it prints; its exit code (1 when no scene or
+    round of ``bench grasp`` / ``bench clutter`` ran to its end: status ``failed``)."""
+    from .bench.registry import BENCHMARKS
 
-        _print_json(run_perception_benchmark(
-            frames=args.frames, json_path=args.json,
-            baseline_frames=0 if args.no_baseline else args.baseline_frames))
-    elif args.bench == "sim":
-        _bench_sim(args)
-    elif args.bench == "planning":
-        from .bench.planning_bench import run_planning_benchmark
-
-        _print_json(run_planning_benchmark(scenes=args.scenes, seed=args.seed,
-                                           json_path=args.json, overrides=(args.config, args.sets),
-                                           hard_pairs=args.hard, hard_only=args.hard_only))
-    elif args.bench == "grasp":
-        from .bench.grasp_bench import headline, run_grasp_benchmark
-
-        result = run_grasp_benchmark(scenes=args.scenes, seed=args.seed, workers=args.workers,
-                                     json_path=args.json, out_dir=args.out,
-                                     progress=not args.no_progress,
-                                     scene_timeout_s=args.scene_timeout,
-                                     overrides=(args.config, args.sets),
-                                     backend=args.backend, address=args.address)
-        print(headline(result))
-        print(f"JSON: {args.json}\nsummary: {result['summary']}")
-        return 1 if result["status"] == "failed" else 0
-    elif args.bench == "clutter":
-        from .bench.clutter_bench import headline as clutter_headline
-        from .bench.clutter_bench import run_clutter_benchmark
-
-        result = run_clutter_benchmark(
-            protocol=args.protocol, objects=args.objects, rounds=args.rounds, seeds=args.seed,
-            workers=args.workers, json_path=args.json, out_dir=args.out,
-            progress=not args.no_progress, round_timeout_s=args.round_timeout,
-            overrides=(args.config, args.sets), backend=args.backend, address=args.address,
-            rerun_dir=args.rerun)
-        print(clutter_headline(result))
-        print(f"JSON: {args.json}\nsummary: {result['summary']}")
-        return 1 if result["status"] == "failed" else 0
-    elif args.bench == "workers":
-        from .bench.workers_bench import run_workers_benchmark
-
-        _print_json(run_workers_benchmark(scenes=args.scenes, seed=args.seed, workers=args.workers,
-                                          json_path=args.json, out_dir=args.out,
-                                          progress=not args.no_progress,
-                                          overrides=(args.config, args.sets)))
-    elif args.bench == "frames":
-        from .bench.frames_bench import run_frames_benchmark
-
-        _print_json(run_frames_benchmark(scenes=args.scenes, seed=args.seed, workers=args.workers,
-                                         json_path=args.json, out_dir=args.out,
-                                         progress=not args.no_progress,
-                                         overrides=(args.config, args.sets)))
-    return 0
+    benchmark = BENCHMARKS[args.bench]
+    return benchmark.report(benchmark.run(args), args)
 
 
 def _run(args: argparse.Namespace) -> int:
@@ -477,7 +279,11 @@ def _split_log_level(argv: list[str] | None) -> tuple[Optional[str], list[str]]:
 
 
 def _uses_mujoco(args: argparse.Namespace) -> bool:
-    return args.command in ("run", "demo", "record", "eval") or (args.command == "bench" and args.bench != "perception")
+    if args.command == "bench":
+        from .bench.registry import BENCHMARKS
+
+        return BENCHMARKS[args.bench].uses_mujoco
+    return args.command in ("run", "demo", "record", "eval")
 
 
 def main(argv: list[str] | None = None) -> int:

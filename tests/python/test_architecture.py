@@ -1,9 +1,12 @@
 """The package's shape: who imports whom, no cycles, short functions, no import-time effects."""
 
 import ast
+import functools
 import os
 import subprocess
 import sys
+import textwrap
+from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
@@ -16,6 +19,7 @@ MAX_FUNCTION_LINES = 60
 SIM_FREE = ("motion", "perception", "orchestration", "robot", "language")
 
 
+@functools.lru_cache(maxsize=None)
 def _modules() -> dict[str, Path]:
     out = {}
     for path in PKG.rglob("*.py"):
@@ -27,66 +31,184 @@ def _modules() -> dict[str, Path]:
     return out
 
 
-def _imports(name: str, path: Path, top_level_only: bool) -> set[str]:
-    """Modules of grasp_pipeline that ``name`` imports (resolving relative imports)."""
-    tree = ast.parse(path.read_text())
-    is_pkg = path.name == "__init__.py"
-    base = name.split(".") if is_pkg else name.split(".")[:-1]
-    nodes = tree.body if top_level_only else list(ast.walk(tree))
-    found = set()
-    for node in nodes:
-        if isinstance(node, ast.ImportFrom):
-            if node.level:
-                mod = ".".join(base[: len(base) - node.level + 1] + ([node.module] if node.module else []))
-            else:
-                mod = node.module or ""
-            found.add(mod)
-            found.update(f"{mod}.{a.name}" for a in node.names)
-        elif isinstance(node, ast.Import):
-            found.update(a.name for a in node.names)
+@dataclass(frozen=True)
+class ImportSite:
+    """Where a module imports another: the line and the function (``Class.method``) it is in
+    ("" at module level)."""
+
+    line: int
+    function: str
+
+    def __str__(self) -> str:
+        return f"line {self.line}" + (f" in {self.function}()" if self.function else "")
+
+
+class _ImportCollector(ast.NodeVisitor):
+    """Every ``import`` / ``from ... import`` of a module, at any depth (module level, functions,
+    methods, ``if`` / ``try`` blocks), relative ones resolved against the module's package;
+    what it imports -> where."""
+
+    def __init__(self, name: str, is_package: bool) -> None:
+        self.package = name.split(".") if is_package else name.split(".")[:-1]
+        self.found: dict[str, list[ImportSite]] = {}
+        self._functions: list[str] = []
+
+    def _add(self, target: str, node: ast.AST) -> None:
+        site = ImportSite(node.lineno, ".".join(self._functions))
+        self.found.setdefault(target, []).append(site)
+
+    def _visit_function(self, node) -> None:
+        self._functions.append(node.name)
+        self.generic_visit(node)
+        self._functions.pop()
+
+    visit_FunctionDef = visit_AsyncFunctionDef = visit_ClassDef = _visit_function
+
+    def visit_Import(self, node: ast.Import) -> None:
+        for alias in node.names:
+            self._add(alias.name, node)
+
+    def visit_ImportFrom(self, node: ast.ImportFrom) -> None:
+        if node.level:
+            base = self.package[: len(self.package) - node.level + 1]
+            module = ".".join(base + ([node.module] if node.module else []))
+        else:
+            module = node.module or ""
+        self._add(module, node)  # (its package's __init__ runs: a dependency even for "from . import x")
+        for alias in node.names:
+            self._add(f"{module}.{alias.name}", node)  # kept below only when it is a module
+
+
+def imports_of(name: str, source: str, is_package: bool = False) -> dict[str, list[ImportSite]]:
+    """What the module ``name`` with text ``source`` imports (dotted names, relative imports
+    resolved; names that are not modules included), at every depth -> where."""
+    collector = _ImportCollector(name, is_package)
+    collector.visit(ast.parse(source))
+    return collector.found
+
+
+@functools.lru_cache(maxsize=None)
+def _import_graph() -> dict[str, dict[str, tuple[ImportSite, ...]]]:
+    """module -> {module of grasp_pipeline it imports (module or function level) -> where}."""
     mods = _modules()
-    return {m for m in found if m in mods and m != name}
+    graph = {}
+    for name, path in mods.items():
+        found = imports_of(name, path.read_text(), path.name == "__init__.py")
+        graph[name] = {m: tuple(sites) for m, sites in found.items() if m in mods and m != name}
+    return graph
+
+
+def _imports(name: str) -> set[str]:
+    """Modules of grasp_pipeline that ``name`` imports, at module or function level."""
+    return set(_import_graph()[name])
+
+
+def test_the_import_graph_sees_function_level_and_relative_imports():
+    source = textwrap.dedent("""
+        import numpy
+        from . import sibling
+        from ..sim import world as w
+
+        def later():
+            from ..report.serialize import write_json
+            if True:
+                import grasp_pipeline.app.run
+
+        class K:
+            def method(self):
+                from .. import evaluation
+    """)
+    found = imports_of("grasp_pipeline.bench.x", source)
+    for target in ("numpy", "grasp_pipeline.bench", "grasp_pipeline.bench.sibling", "grasp_pipeline.sim",
+                   "grasp_pipeline.sim.world", "grasp_pipeline.report.serialize",
+                   "grasp_pipeline.app.run", "grasp_pipeline.evaluation"):
+        assert target in found, target
+    assert [str(s) for s in found["grasp_pipeline.report.serialize"]] == ["line 7 in later()"]
+    assert [str(s) for s in found["grasp_pipeline.evaluation"]] == ["line 13 in K.method()"]
+    assert imports_of("grasp_pipeline.bench", "from .x import y", is_package=True) == \
+        {"grasp_pipeline.bench.x": [ImportSite(1, "")], "grasp_pipeline.bench.x.y": [ImportSite(1, "")]}
 
 
 def test_motion_perception_orchestration_never_import_the_simulator():
     offenders = []
-    for name, path in _modules().items():
+    for name in _modules():
         if name.split(".")[1:2] and name.split(".")[1] in SIM_FREE:
-            for dep in _imports(name, path, top_level_only=False):
-                if dep.startswith("grasp_pipeline.sim") or dep.startswith("grasp_pipeline.app") \
-                        or dep.startswith("grasp_pipeline.evaluation"):
-                    offenders.append(f"{name} imports {dep}")
+            for dep, sites in _import_graph()[name].items():
+                if dep.startswith(("grasp_pipeline.sim", "grasp_pipeline.app", "grasp_pipeline.evaluation")):
+                    offenders.append(f"{name} imports {dep} ({', '.join(map(str, sites))})")
     assert offenders == []
 
 
 def test_ground_truth_is_read_only_by_evaluation_code():
     allowed = ("grasp_pipeline.evaluation", "grasp_pipeline.bench", "grasp_pipeline.sim")
-    offenders = [f"{n} imports it" for n, p in _modules().items()
-                 if not n.startswith(allowed)
-                 and "grasp_pipeline.sim.ground_truth" in _imports(n, p, top_level_only=False)]
+    offenders = [f"{n} imports it" for n in _modules()
+                 if not n.startswith(allowed) and "grasp_pipeline.sim.ground_truth" in _imports(n)]
     assert offenders == []
 
 
+def _strongly_connected(graph: dict[str, set[str]]) -> list[list[str]]:
+    """The groups of modules that import each other, directly or not (Tarjan; groups of 2+)."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    groups: list[list[str]] = []
+
+    def visit(n: str) -> None:
+        index[n] = low[n] = len(index)
+        stack.append(n)
+        for d in sorted(graph[n]):
+            if d not in index:
+                visit(d)
+                low[n] = min(low[n], low[d])
+            elif d in stack:
+                low[n] = min(low[n], index[d])
+        if low[n] == index[n]:
+            group = []
+            while True:
+                m = stack.pop()
+                group.append(m)
+                if m == n:
+                    break
+            if len(group) > 1:
+                groups.append(sorted(group))
+
+    for n in sorted(graph):
+        if n not in index:
+            visit(n)
+    return groups
+
+
+def _one_cycle(graph: dict[str, set[str]], group: list[str]) -> list[str]:
+    """A shortest cycle through the group's first module (breadth-first within the group)."""
+    start, members = group[0], set(group)
+    paths = {start: [start]}
+    queue = [start]
+    while queue:
+        n = queue.pop(0)
+        for d in sorted(graph[n] & members):
+            if d == start:
+                return paths[n] + [start]
+            if d not in paths:
+                paths[d] = paths[n] + [d]
+                queue.append(d)
+    raise AssertionError(f"no cycle through {start}")
+
+
+def _describe(cycle: list[str]) -> str:
+    sites = _import_graph()
+    steps = [cycle[0]] + [f"-> {b} ({', '.join(map(str, sites[a][b]))})" for a, b in zip(cycle, cycle[1:])]
+    return " ".join(steps)
+
+
 def test_no_import_cycles_between_modules():
-    mods = _modules()
-    graph = {n: {d for d in _imports(n, p, top_level_only=True)} for n, p in mods.items()}
-    # a package's __init__ re-exporting its submodules is not a cycle with them
-    graph = {n: {d for d in deps if not n.startswith(d + ".")} for n, deps in graph.items()}
-    state, cycles = {}, []
-
-    def visit(n, stack):
-        state[n] = 1
-        for d in graph.get(n, ()):
-            if state.get(d) == 1:
-                cycles.append(" -> ".join(stack[stack.index(d):] + [d]))
-            elif d not in state:
-                visit(d, stack + [d])
-        state[n] = 2
-
-    for n in graph:
-        if n not in state:
-            visit(n, [n])
-    assert cycles == []
+    """Module-level and function-level imports alike: a cycle hidden in a function's import
+    is still two modules that need each other. (A submodule importing its own package is not
+    a cycle with the package's __init__ re-exporting it.) Imports of other packages (optional
+    extras imported inside functions) are not part of this graph."""
+    graph = {n: {d for d in deps if not n.startswith(d + ".")} for n, deps in
+             ((n, _imports(n)) for n in _modules())}
+    cycles = [_describe(_one_cycle(graph, g)) for g in _strongly_connected(graph)]
+    assert cycles == [], "import cycles:\n" + "\n".join(cycles)
 
 
 def test_no_python_function_is_longer_than_60_lines():

@@ -29,7 +29,8 @@ the label counts, the declutter rate against each bound (``dr_top_down``, ``dr_t
 ``dr_any_side``: objects picked among those graspable under it / those graspable) and the
 outcomes per label. Each round record lists its objects in ``object_outcomes``.
 
-Deterministic for a seed (rounds sorted; only the fields in :data:`TIMING_KEYS` differ).
+The result is a :class:`~.clutter_result.ClutterBenchResult`; deterministic for a seed
+(rounds sorted; only the fields in :data:`~.clutter_result.TIMING_KEYS` differ).
 """
 
 from __future__ import annotations
@@ -40,79 +41,82 @@ import math
 import os
 import time
 from pathlib import Path
-from typing import Optional
+from typing import Any, Optional
 
 from ..app.run_command import sigterm_as_interrupt
 from ..exceptions import InputError
 from ..report.output_lock import output_claim
 from ..report.serialize import check_writable, check_writable_dir
+from .clutter_result import ClutterBenchResult, ObjectSuccess, RatePair, RoundRecord, SeedCounts
 from .clutter_round import clutter_settings, run_round
-from .grasp_bench import failures_by_stage, scene_seed, stats
-from .scheduler import JobSpec, run_jobs, worker_env
+from .figures import failures_by_stage, rate, stats
+from .jobs import JobSpec, worker_env
+from .scheduler import run_jobs
+from .seeds import scene_seed
 
 log = logging.getLogger(__name__)
 
 PROTOCOLS = ("packed", "pile", "sparse")
-#: Fields that hold timings — the only ones allowed to differ between runs of one seed.
-TIMING_KEYS = ("wall_s", "wall_time_s", "time_per_attempt_s", "time_per_round_s",
-               "rounds_per_hour", "timings", "snapshots")
 #: Stages at or after which the arm moved towards the object.
 EXECUTED_STAGES = ("APPROACH", "CLOSE", "LIFT", "DONE", "PLACE", "VERIFY")
 
 
-def _fraction(num: int, den: int) -> Optional[float]:
-    return None if den == 0 else round(num / den, 4)
-
-
-def _counts(rows: list[dict]) -> dict:
-    """Rounds, objects placed, attempts, successes, GSR, DR of some round records."""
+def _counts(rows: list[RoundRecord]) -> dict[str, Any]:
+    """Rounds, objects placed, attempts, successes, GSR, DR of some round records (the count
+    fields of :class:`~.clutter_result.SeedCounts` and of the result)."""
     placed = sum(r["objects_placed"] for r in rows)
     attempts = [a for r in rows for a in r["attempts"]]
     ok = sum(a["success"] for a in attempts)
     executed = [a for a in attempts if a["success"] or a.get("stage") in EXECUTED_STAGES]
     return {"rounds": len(rows), "objects_placed": placed, "attempts": len(attempts),
-            "successes": ok, "gsr": _fraction(ok, len(attempts)), "dr": _fraction(ok, placed),
-            "attempts_executed": len(executed), "gsr_executed": _fraction(ok, len(executed))}
+            "successes": ok, "gsr": rate(ok, len(attempts)), "dr": rate(ok, placed),
+            "attempts_executed": len(executed), "gsr_executed": rate(ok, len(executed))}
 
 
-def _mean_std(values: list) -> dict:
+def _mean_std(values: list) -> tuple[Optional[float], Optional[float]]:
+    """Mean and population std of the values that are not None (None, None without any)."""
     v = [float(x) for x in values if x is not None]
     if not v:
-        return {"mean": None, "std": None, "n": 0}
+        return None, None
     m = sum(v) / len(v)
-    return {"mean": round(m, 4), "std": round(math.sqrt(sum((x - m) ** 2 for x in v) / len(v)), 4),
-            "n": len(v)}
+    return round(m, 4), round(math.sqrt(sum((x - m) ** 2 for x in v) / len(v)), 4)
 
 
-def _success_by_object(rows: list[dict]) -> dict:
+def _over_seeds(per_seed: list[SeedCounts]) -> tuple[RatePair, RatePair]:
+    """(mean, std) of GSR and DR over the seeds."""
+    gsr = _mean_std([s.gsr for s in per_seed])
+    dr = _mean_std([s.dr for s in per_seed])
+    return RatePair(gsr[0], dr[0]), RatePair(gsr[1], dr[1])
+
+
+def _success_by_object(rows: list[RoundRecord]) -> dict[str, ObjectSuccess]:
     """Per object model: how many were placed, attempted, picked."""
-    out: dict = {}
+    counts: dict[str, list[int]] = {}
     for r in rows:
         for model in r["models"].values():
-            out.setdefault(model, {"placed": 0, "attempts": 0, "picked": 0})["placed"] += 1
+            counts.setdefault(model, [0, 0, 0])[0] += 1
         for a in r["attempts"]:
-            g = out.setdefault(a["model"] or "unknown", {"placed": 0, "attempts": 0, "picked": 0})
-            g["attempts"] += 1
-            g["picked"] += int(a["success"])
-    for g in out.values():
-        g["success_rate"] = _fraction(g["picked"], g["attempts"])
-    return dict(sorted(out.items()))
+            c = counts.setdefault(a["model"] or "unknown", [0, 0, 0])
+            c[1] += 1
+            c[2] += int(a["success"])
+    return {m: ObjectSuccess(placed=p, attempts=n, picked=k, success_rate=rate(k, n))
+            for m, (p, n, k) in sorted(counts.items())}
 
 
-def _segmentation(rows: list[dict]) -> dict:
+def _segmentation(rows: list[RoundRecord]) -> dict:
     from ..evaluation.segmentation import ObjectSegmentation, summarize
 
     scores = [ObjectSegmentation(**s) for r in rows for s in r["segmentation"]]
     return summarize(scores, sum(r["objects_placed"] for r in rows))
 
 
-def _grasp_bound(rows: list[dict]) -> dict:
+def _grasp_bound(rows: list[RoundRecord]) -> dict:
     from ..evaluation.object_outcomes import summarize
 
     return summarize([o for r in rows for o in r.get("object_outcomes") or []])
 
 
-def _end_reasons(rows: list[dict]) -> dict:
+def _end_reasons(rows: list[RoundRecord]) -> dict[str, int]:
     out: dict = {}
     for r in rows:
         key = r["end_reason"].split(" (")[0] or "unspecified"
@@ -120,33 +124,34 @@ def _end_reasons(rows: list[dict]) -> dict:
     return dict(sorted(out.items(), key=lambda kv: (-kv[1], kv[0])))
 
 
-def aggregate(rows: list[dict], protocol: str, objects: str, seeds: list[int], workers: int,
-              wall_time_s: float) -> dict:
-    """The benchmark JSON from the round records (a pure function)."""
+def aggregate(rows: list[RoundRecord], protocol: str, objects: str, seeds: list[int], workers: int,
+              wall_time_s: float, bound_config=None) -> ClutterBenchResult:
+    """The benchmark's figures from the round records (a pure function); ``bound_config``: the
+    ``grasp_bound`` parameters, written with the bound's figures. The run's own facts (status,
+    backend, ...) keep their defaults: the caller replaces them."""
     rows = sorted(rows, key=lambda r: r["index"])
-    per_seed = [{"seed": s, **_counts([r for r in rows if r["bench_seed"] == s])} for s in seeds]
+    per_seed = [SeedCounts(seed=s, **_counts([r for r in rows if r["bench_seed"] == s])) for s in seeds]
     attempts = [a for r in rows for a in r["attempts"]]
-    out = {"benchmark": "clutter", "protocol": protocol, "objects": objects,
-           "seed_list": list(seeds), **_counts(rows),
-           "seeds": per_seed,
-           "mean": {k: _mean_std([s[k] for s in per_seed])["mean"] for k in ("gsr", "dr")},
-           "std": {k: _mean_std([s[k] for s in per_seed])["std"] for k in ("gsr", "dr")},
-           "rounds_failed": sum(1 for r in rows if r.get("error")),
-           "end_reasons": _end_reasons(rows),
-           "failures_by_stage": failures_by_stage(attempts, ok_key="success"),
-           "success_by_object": _success_by_object(rows),
-           "segmentation": _segmentation(rows),
-           "grasp_bound": _grasp_bound(rows),
-           "time_per_attempt_s": stats(a["wall_s"] for a in attempts),
-           "time_per_round_s": stats(r["timings"].get("wall_s") for r in rows),
-           "wall_time_s": round(float(wall_time_s), 3),
-           "rounds_per_hour": None if wall_time_s <= 0 else round(3600.0 * len(rows) / wall_time_s, 3),
-           "workers": int(workers), "round_seed_rule": "scene_seed(seed, round) as bench grasp"}
-    out["round_rows"] = rows
-    return out
+    mean, std = _over_seeds(per_seed)
+    bound = _grasp_bound(rows)
+    if bound_config is not None:
+        bound["config"] = dataclasses.asdict(bound_config)
+    return ClutterBenchResult(
+        protocol=protocol, objects=objects, seed_list=tuple(seeds), **_counts(rows),
+        seeds=tuple(per_seed), mean=mean, std=std,
+        rounds_failed=sum(1 for r in rows if r.get("error")),
+        end_reasons=_end_reasons(rows),
+        failures_by_stage=failures_by_stage(attempts, ok_key="success"),
+        success_by_object=_success_by_object(rows),
+        segmentation=_segmentation(rows), grasp_bound=bound,
+        time_per_attempt_s=stats(a["wall_s"] for a in attempts),
+        time_per_round_s=stats(r["timings"].get("wall_s") for r in rows),
+        wall_time_s=round(float(wall_time_s), 3),
+        rounds_per_hour=None if wall_time_s <= 0 else round(3600.0 * len(rows) / wall_time_s, 3),
+        workers=int(workers), round_rows=tuple(rows))
 
 
-def _failed_round(task: tuple, error: str, wall_s: float) -> dict:
+def _failed_round(task: tuple, error: str, wall_s: float) -> RoundRecord:
     """The record of a round whose process died or timed out (its objects still count)."""
     from .clutter_round import round_record, round_scene
 
@@ -162,11 +167,11 @@ def _failed_round(task: tuple, error: str, wall_s: float) -> dict:
     return round_record(public, spec, None, None, error, wall_s, bound_config)
 
 
-def _run_task(task: tuple) -> dict:
+def _run_task(task: tuple) -> RoundRecord:
     return run_round(task[1])
 
 
-def _postfix(records: list[dict]) -> str:
+def _postfix(records: list[RoundRecord]) -> str:
     ok = sum(r["successes"] for r in records)
     return f"GSR {ok}/{sum(len(r['attempts']) for r in records)}, DR {ok}/{sum(r['objects_placed'] for r in records)}"
 
@@ -211,7 +216,7 @@ def _check_objects(protocol: str, objects: str) -> dict:
     return model_notes(object_set(objects))
 
 
-def run_status(rows: list[dict], interrupted: bool) -> tuple[str, str]:
+def run_status(rows: list[RoundRecord], interrupted: bool) -> tuple[str, str]:
     """(status, note): ``interrupted``; ``failed`` when no round ran to its end (each raised,
     timed out or its process died); ``partial`` when some did not; else ``complete``."""
     broken = [r for r in rows if r.get("error_category")]
@@ -232,7 +237,7 @@ def run_clutter_benchmark(protocol: str = "packed", objects: str = "builtin", ro
                           out_dir: str | Path = "out/bench_clutter", progress: bool = True,
                           round_timeout_s: float = 3600.0, overrides: tuple = (None, ()),
                           backend: str = "local", address: Optional[str] = None,
-                          rerun_dir: str | Path | None = None) -> dict:
+                          rerun_dir: str | Path | None = None) -> ClutterBenchResult:
     """Run the benchmark; write the JSON (``json_path``), ``OUT/summary.md`` and plots.
     ``backend``: ``"local"`` (spawned processes) or ``"ray"`` (``address``: a cluster's);
     ``rerun_dir``: also one Rerun recording per round there (``<round folder name>.rrd``).
@@ -260,59 +265,59 @@ def run_clutter_benchmark(protocol: str = "packed", objects: str = "builtin", ro
                                          progress, backend, address)
         except KeyboardInterrupt:
             interrupted = True
-        result = aggregate(rows, protocol, str(objects), seeds, min(workers, len(tasks)),
-                           time.perf_counter() - t0)
-        result["grasp_bound"]["config"] = dataclasses.asdict(clutter_settings(overrides).grasp_bound)
         status, note = run_status(rows, interrupted)
-        result.update(status=status, status_note=note, rounds_requested=len(tasks),
-                      cpu_count=os.cpu_count(), mujoco_gl=worker_env()["MUJOCO_GL"], out_dir=str(out),
-                      backend=backend, object_notes=notes,
-                      warnings=[claim.warning] if claim.warning else [])
-        if interrupted:
-            result["interrupted_while"] = phase
-        _write_results(result, out, json_path)
-    if result["status"] == "interrupted":
-        raise KeyboardInterrupt(f"bench clutter interrupted while {result['interrupted_while']} after "
+        result = dataclasses.replace(
+            aggregate(rows, protocol, str(objects), seeds, min(workers, len(tasks)), time.perf_counter() - t0,
+                      clutter_settings(overrides).grasp_bound),
+            status=status, status_note=note, rounds_requested=len(tasks), cpu_count=os.cpu_count(),
+            mujoco_gl=worker_env()["MUJOCO_GL"], out_dir=str(out), backend=backend, object_notes=notes,
+            warnings=(claim.warning,) if claim.warning else (), interrupted_while=phase if interrupted else None)
+        result = _write_results(result, out, json_path)
+    if result.status == "interrupted":
+        raise KeyboardInterrupt(f"bench clutter interrupted while {result.interrupted_while} after "
                                 f"{len(rows)} of {len(tasks)} rounds (written to {json_path})")
     return result
 
 
-def _write_results(result: dict, out: Path, json_path) -> None:
+def _write_results(result: ClutterBenchResult, out: Path, json_path) -> ClutterBenchResult:
     """The JSON, the plots and ``summary.md``, safe against a signal (:mod:`.results_files`)."""
     from .clutter_plots import write_plots, write_summary
     from .results_files import write_results
 
-    write_results(result, out, json_path, write_plots, write_summary, "round_rows")
+    return write_results(result, out, json_path, write_plots, write_summary)
 
 
-def headline(result: dict) -> str:
+def _pct(v: Optional[float]) -> str:
+    return "n/a" if v is None else f"{100 * v:.1f} %"
+
+
+def headline(result: ClutterBenchResult) -> str:
     """A few lines for the terminal."""
-    pct = lambda v: "n/a" if v is None else f"{100 * v:.1f} %"  # noqa: E731
-    seg = result["segmentation"]
-    lines = [f"STATUS {result['status'].upper()}: {result.get('status_note') or 'interrupted'}"
-             ] if result.get("status", "complete") != "complete" else []
+    pct, seg = _pct, result.segmentation
+    lines = [f"STATUS {result.status.upper()}: {result.status_note or 'interrupted'}"
+             ] if result.status != "complete" else []
     lines += [
-        f"{result['protocol']} / {result['objects']}: {result['rounds']} rounds, "
-        f"{result['objects_placed']} objects, {result['attempts']} attempts, {result['successes']} picked",
-        f"GSR {pct(result['gsr'])} (mean {pct(result['mean']['gsr'])} +- {pct(result['std']['gsr'])} over "
-        f"{len(result['seeds'])} seed(s)), DR {pct(result['dr'])}",
+        f"{result.protocol} / {result.objects}: {result.rounds} rounds, "
+        f"{result.objects_placed} objects, {result.attempts} attempts, {result.successes} picked",
+        f"GSR {pct(result.gsr)} (mean {pct(result.mean.gsr)} +- {pct(result.std.gsr)} over "
+        f"{len(result.seeds)} seed(s)), DR {pct(result.dr)}",
         f"segmentation at the scan: {pct(seg['correct_rate'])} correct, {seg['merged']} merged, "
         f"{seg['split']} split, {seg['missed']} missed",
-        f"time per attempt: median {result['time_per_attempt_s']['median']} s; per round: median "
-        f"{result['time_per_round_s']['median']} s; wall {result['wall_time_s']:.0f} s",
-        f"rounds ended: {', '.join(f'{k} x{v}' for k, v in result['end_reasons'].items())}",
+        f"time per attempt: median {result.time_per_attempt_s.median} s; per round: median "
+        f"{result.time_per_round_s.median} s; wall {result.wall_time_s:.0f} s",
+        f"rounds ended: {', '.join(f'{k} x{v}' for k, v in result.end_reasons.items())}",
     ]
-    b = result.get("grasp_bound") or {}
+    b = result.grasp_bound or {}
     if b.get("objects"):
         lines.append(f"geometric bound: graspable from above {pct(b['graspable_fraction']['top_down'])}, "
                      f"tilted {pct(b['graspable_fraction']['tilted'])}, any side "
                      f"{pct(b['graspable_fraction']['any_side'])}; DR against them "
                      f"{pct(b['dr_top_down'])} / {pct(b['dr_tilted'])} / {pct(b['dr_any_side'])}")
-    for stage, f in result["failures_by_stage"].items():
-        lines.append(f"  failed at {stage}: {f['count']} ({', '.join(f'{k} x{v}' for k, v in f['reasons'].items())})")
-    warned = [name for name, n in (result.get("object_notes") or {}).items() if n["warnings"]]
+    for stage, f in result.failures_by_stage.items():
+        lines.append(f"  failed at {stage}: {f.count} ({', '.join(f'{k} x{v}' for k, v in f.reasons.items())})")
+    warned = [name for name, n in result.object_notes.items() if n["warnings"]]
     if warned:
         lines.append(f"object warnings ({len(warned)} models): {', '.join(warned[:8])}"
                      + (" ..." if len(warned) > 8 else "") + " (see object_notes in the JSON)")
-    lines += [f"warning: {w}" for w in result.get("warnings") or []]
+    lines += [f"warning: {w}" for w in result.warnings]
     return "\n".join(lines)

@@ -1,7 +1,8 @@
 """Plots (PNG, matplotlib Agg) and the markdown summary of the clutter benchmark.
 
-Input: the result dict of :func:`.clutter_bench.aggregate` (its ``round_rows`` carry every
-attempt). Nothing here reads ground truth or runs the pipeline.
+Input: the JSON form of a :class:`~.clutter_result.ClutterBenchResult` — as a results file
+holds it (its ``round_rows`` carry every attempt). Nothing here reads ground truth or runs the
+pipeline.
 """
 
 from __future__ import annotations
@@ -10,7 +11,7 @@ import os
 from pathlib import Path
 from typing import Optional
 
-from .grasp_plots import _fmt, _pct, _plt, _short, _table
+from .report_text import fmt, md_table, pct, pyplot, short
 
 #: Published results for context (GIGA, Jiang et al. 2021, Table I; EdgeGraspNet's GSR):
 #: protocol → [(method, GSR %, DR % or None)].
@@ -62,7 +63,7 @@ def _bar_failures(ax, result: dict) -> None:
 
 def write_plots(result: dict, out_dir: str | Path) -> dict[str, Path]:
     """``rates.png``, ``objects.png``, ``failures.png`` in ``out_dir``; name → path."""
-    plt = _plt()
+    plt = pyplot()
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     paths = {}
@@ -90,18 +91,18 @@ def _md_head(r: dict, json_path) -> list[str]:
          "proposed, or after 2 failed attempts in a row. GSR = successful picks / attempts (every "
          "attempt, also one that never moved the arm); DR = successful picks / objects placed. "
          "Std over seeds is the population std.", ""]
-    L += _table(["figure", "value"], [
-        ["GSR (all rounds)", _pct(r["gsr"])], ["DR (all rounds)", _pct(r["dr"])],
-        ["GSR mean ± std over seeds", f"{_pct(r['mean']['gsr'])} ± {_pct(r['std']['gsr'])}"],
-        ["DR mean ± std over seeds", f"{_pct(r['mean']['dr'])} ± {_pct(r['std']['dr'])}"],
-        ["GSR of executed attempts (arm reached APPROACH)", _pct(r["gsr_executed"])],
+    L += md_table(["figure", "value"], [
+        ["GSR (all rounds)", pct(r["gsr"])], ["DR (all rounds)", pct(r["dr"])],
+        ["GSR mean ± std over seeds", f"{pct(r['mean']['gsr'])} ± {pct(r['std']['gsr'])}"],
+        ["DR mean ± std over seeds", f"{pct(r['mean']['dr'])} ± {pct(r['std']['dr'])}"],
+        ["GSR of executed attempts (arm reached APPROACH)", pct(r["gsr_executed"])],
         ["objects placed / attempts / picked", f"{r['objects_placed']} / {r['attempts']} / {r['successes']}"],
-        ["time per attempt, median [s]", _fmt(r["time_per_attempt_s"]["median"], 1)],
-        ["time per round, median [s]", _fmt(r["time_per_round_s"]["median"], 1)],
-        ["rounds per hour", _fmt(r["rounds_per_hour"], 1)]])
-    L += _table(["seed", "rounds", "objects", "attempts", "picked", "GSR", "DR"],
+        ["time per attempt, median [s]", fmt(r["time_per_attempt_s"]["median"], 1)],
+        ["time per round, median [s]", fmt(r["time_per_round_s"]["median"], 1)],
+        ["rounds per hour", fmt(r["rounds_per_hour"], 1)]])
+    L += md_table(["seed", "rounds", "objects", "attempts", "picked", "GSR", "DR"],
                 [[s["seed"], s["rounds"], s["objects_placed"], s["attempts"], s["successes"],
-                  _pct(s["gsr"]), _pct(s["dr"])] for s in r["seeds"]])
+                  pct(s["gsr"]), pct(s["dr"])] for s in r["seeds"]])
     return L + ["![rates](rates.png)", ""]
 
 
@@ -110,7 +111,7 @@ def _md_published(r: dict) -> list[str]:
     rows = [[m, f"{g:.1f} %", "n/a" if d is None else f"{d:.1f} %"] for m, g, d in PUBLISHED.get(r["protocol"], [])]
     if not rows:
         return L + ["No published numbers for this protocol.", ""]
-    L += _table(["method", "GSR", "DR"], rows + [["**ours (this run)**", _pct(r["gsr"]), _pct(r["dr"])]])
+    L += md_table(["method", "GSR", "DR"], rows + [["**ours (this run)**", pct(r["gsr"]), pct(r["dr"])]])
     return L + ["(GIGA, Jiang et al. 2021, Table I; EdgeGraspNet reports GSR only.)", ""]
 
 
@@ -133,21 +134,21 @@ def _md_grasp_bound(r: dict) -> list[str]:
          "(*width only*: the widths alone). DR against a bound = objects picked among those graspable "
          "under it / those graspable.", ""]
     n = b["objects"]
-    rows = [[f"{k} ({BOUND_NAMES[k].format(tilt=tilt)})", f"{b['graspable'][k]} ({_pct(b['graspable_fraction'][k])})",
-             _pct(b[f"dr_{k}"]), f"{b['graspable_width_only'][k]} ({_pct(b['graspable_width_only_fraction'][k])})",
-             _pct(b["dr_width_only"][k])] for k in BOUND_NAMES]
-    rows.append(["all objects", f"{n} (100.0 %)", _pct(b["picked"] / n), f"{n}", _pct(b["picked"] / n)])
-    L += _table(["bound", "graspable (share)", "DR against it", "width only: graspable", "width only: DR"], rows)
+    rows = [[f"{k} ({BOUND_NAMES[k].format(tilt=tilt)})", f"{b['graspable'][k]} ({pct(b['graspable_fraction'][k])})",
+             pct(b[f"dr_{k}"]), f"{b['graspable_width_only'][k]} ({pct(b['graspable_width_only_fraction'][k])})",
+             pct(b["dr_width_only"][k])] for k in BOUND_NAMES]
+    rows.append(["all objects", f"{n} (100.0 %)", pct(b["picked"] / n), f"{n}", pct(b["picked"] / n)])
+    L += md_table(["bound", "graspable (share)", "DR against it", "width only: graspable", "width only: DR"], rows)
     outcomes = list(b["outcomes"])
     L += ["Outcome of each object by its label (picked objects labelled `none`: "
           f"{b['picked_outside_bound']}):", ""]
-    L += _table(["label", *outcomes, "objects"],
+    L += md_table(["label", *outcomes, "objects"],
                 [[lb, *(b["label_by_outcome"][lb][k] for k in outcomes), sum(b["label_by_outcome"][lb].values())]
                  for lb in b["label_by_outcome"]] + [["all", *(b["outcomes"][k] for k in outcomes), n]])
     for title, key in (("Never proposed: why (the robot's last look)", "never_proposed_reasons"),
                        ("Attempted and failed: stage and reason of the last attempt", "attempted_failed_reasons")):
         if b.get(key):
-            L += [f"{title}:", ""] + _table(["reason", "objects"], [[_short(k, 240), v] for k, v in b[key].items()])
+            L += [f"{title}:", ""] + md_table(["reason", "objects"], [[short(k, 240), v] for k, v in b[key].items()])
     return L
 
 
@@ -156,17 +157,17 @@ def _md_segmentation_and_ends(r: dict) -> list[str]:
     L = ["## Segmentation at the scan", "",
          "An object is correct when one cluster holds its visible points (above the band) with "
          "≥ 90 % purity and ≥ 80 % coverage, scored in the probe frame whose camera stood nearest it.", ""]
-    L += _table(["objects", "scored", "correct", "correct rate", "merged", "split", "missed"],
-                [[s["objects"], s["scored"], s["correct"], _pct(s["correct_rate"]), s["merged"], s["split"],
+    L += md_table(["objects", "scored", "correct", "correct rate", "merged", "split", "missed"],
+                [[s["objects"], s["scored"], s["correct"], pct(s["correct_rate"]), s["merged"], s["split"],
                   s["missed"]]])
     L += ["## How rounds ended", ""]
-    return L + _table(["end", "rounds"], [[k, v] for k, v in r["end_reasons"].items()])
+    return L + md_table(["end", "rounds"], [[k, v] for k, v in r["end_reasons"].items()])
 
 
 def _md_failures(r: dict) -> list[str]:
     L = ["## Failed attempts", ""]
     f = r["failures_by_stage"]
-    L += _table(["stage", "reason", "attempts"], [[st, reason, n] for st, v in f.items()
+    L += md_table(["stage", "reason", "attempts"], [[st, reason, n] for st, v in f.items()
                                                   for reason, n in v["reasons"].items()]) if f else ["None.", ""]
     L += ["![failures](failures.png)", "", "| round | scene seed | object | stage | message | PNG |",
           "|---|---|---|---|---|---|"]
@@ -176,14 +177,14 @@ def _md_failures(r: dict) -> list[str]:
                 pngs = " ".join(f"[{Path(p).name}]({os.path.relpath(p, r.get('out_dir', '.'))})"
                                 for p in a.get("snapshots") or [])
                 L.append(f"| {row['index']} | {row['seed']} | {a['object']} | {a['stage']} | "
-                         f"{_short(a['message'], 120).replace('|', '/')} | {pngs or '—'} |")
+                         f"{short(a['message'], 120).replace('|', '/')} | {pngs or '—'} |")
     return L + [""]
 
 
 def _md_objects(r: dict) -> list[str]:
     L = ["## Success by object", ""]
-    L += _table(["object", "placed", "attempts", "picked", "success"],
-                [[k, g["placed"], g["attempts"], g["picked"], _pct(g["success_rate"])]
+    L += md_table(["object", "placed", "attempts", "picked", "success"],
+                [[k, g["placed"], g["attempts"], g["picked"], pct(g["success_rate"])]
                  for k, g in r["success_by_object"].items()])
     return L + ["![objects](objects.png)", ""]
 
@@ -191,9 +192,9 @@ def _md_objects(r: dict) -> list[str]:
 def _md_rounds(r: dict) -> list[str]:
     L = ["## Rounds", "", f"Reproduce one: `grasp-pipeline run --scene {r['protocol'] if r['protocol'] != 'sparse' else 'random'} "
          f"--objects {r['objects']} --seed <scene seed> --declutter`.", ""]
-    return L + _table(["#", "seed", "scene seed", "objects", "attempts", "picked", "ended", "time [s]"],
+    return L + md_table(["#", "seed", "scene seed", "objects", "attempts", "picked", "ended", "time [s]"],
                       [[x["index"], x["bench_seed"], x["seed"], x["objects_placed"], len(x["attempts"]),
-                        x["successes"], x["end_reason"], _fmt(x["timings"].get("wall_s"), 0)]
+                        x["successes"], x["end_reason"], fmt(x["timings"].get("wall_s"), 0)]
                        for x in r["round_rows"]])
 
 

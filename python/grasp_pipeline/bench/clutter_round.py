@@ -21,9 +21,14 @@ import logging
 import time
 import traceback
 from pathlib import Path
-from typing import Optional
+from typing import TYPE_CHECKING, Optional
 
-from .grasp_bench import exception_category, reason_category
+from .clutter_result import RoundRecord
+from .failure_reasons import exception_category, reason_category
+
+if TYPE_CHECKING:
+    from ..settings import Settings
+    from ..sim.scene_spec import SceneSpec
 
 log = logging.getLogger(__name__)
 
@@ -33,7 +38,7 @@ END_CLEARED = "table cleared"
 END_ERROR = "error"
 
 
-def clutter_settings(overrides: tuple = (None, ())):
+def clutter_settings(overrides: tuple = (None, ())) -> "Settings":
     """The run's parameter sets plus the evaluation's (``grasp_bound``), with ``(config_file,
     sets)`` overrides (``--config``/``--set``)."""
     from ..app.sim_system import SECTIONS
@@ -43,7 +48,7 @@ def clutter_settings(overrides: tuple = (None, ())):
     return load_settings((*SECTIONS, "grasp_bound"), config_file, list(sets))
 
 
-def round_scene(protocol: str, seed: int, objects: str, settings):
+def round_scene(protocol: str, seed: int, objects: str, settings: "Settings") -> "SceneSpec":
     """The round's scene: ``packed``/``pile`` of the object set ``objects``, or ``sparse``
     (the random primitive scenes)."""
     from ..app.sim_system import make_scene
@@ -146,8 +151,8 @@ def _object_rows(spec, report: dict, attempts: list, obs: Optional[_Observers], 
         return []
 
 
-def round_record(task: dict, spec, report: Optional[dict], obs: Optional[_Observers],
-                 error: Optional[str], wall_s: float, bound_config=None) -> dict:
+def round_record(task: dict, spec: Optional["SceneSpec"], report: Optional[dict], obs: Optional[_Observers],
+                 error: Optional[str], wall_s: float, bound_config=None) -> RoundRecord:
     """The compact per-round record (see :mod:`.clutter_bench` for the fields);
     ``bound_config``: the ``grasp_bound`` parameters when ``obs`` is None."""
     report = report or {}
@@ -172,7 +177,7 @@ def round_record(task: dict, spec, report: Optional[dict], obs: Optional[_Observ
             "timings": timings, "object_outcomes": objects}
 
 
-def run_round(task: dict) -> dict:
+def run_round(task: dict) -> RoundRecord:
     """Run one round in this process (``task``: index, bench_seed, seed, protocol, objects,
     out_dir, overrides, recording: a ``.rrd`` path or None); never raises."""
     from ..app.run import run_pipeline

@@ -1,8 +1,8 @@
 """Plots (PNG, matplotlib Agg) and the markdown summary of the grasp benchmark.
 
-Input: the benchmark result dict of :func:`grasp_bench.aggregate` (its ``scene_rows`` carry
-the per-object errors, outcomes and timings). Nothing here reads ground truth or runs the
-pipeline.
+Input: the JSON form of a :class:`~.grasp_result.GraspBenchResult` — as a results file holds
+it, so a loaded file is drawn the same way (its ``scene_rows`` carry the per-object errors,
+outcomes and timings). Nothing here reads ground truth or runs the pipeline.
 """
 
 from __future__ import annotations
@@ -11,7 +11,8 @@ import math
 from pathlib import Path
 from typing import Optional
 
-from .grasp_bench import ACCURACY_METRICS, YAW_KINDS
+from .accuracy import ACCURACY_METRICS, YAW_KINDS
+from .report_text import fmt, md_table, pct, pyplot, short
 
 #: Accuracy panels: (JSON metric, axis label, NADIR target or None).
 ERROR_PANELS = (
@@ -28,15 +29,6 @@ PANEL_TITLES = {"center_mm": "Box centre error", "width_mm": "Width error (grasp
 TIME_STAGES = (("rough_view_s", "rough view"), ("scan_s", "scan"), ("picks_s", "picks"))
 NADIR_COLOR = "#1f77b4"
 OBLIQUE_COLOR = "#ff7f0e"
-
-
-def _plt():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
 
 
 def _objects(result: dict) -> list[dict]:
@@ -70,7 +62,7 @@ def plot_errors(result: dict, path: Path) -> Path:
     """Histograms of the estimate errors, NADIR (after the scan) over oblique (rough view)."""
     import numpy as np
 
-    plt = _plt()
+    plt = pyplot()
     from matplotlib.ticker import MaxNLocator
 
     fig, axes = plt.subplots(2, 3, figsize=(15, 8.5))
@@ -106,8 +98,8 @@ def plot_errors(result: dict, path: Path) -> Path:
     for metric, label, _t in ERROR_PANELS:
         a, b = acc.get(metric, {}), obl.get(metric, {})
         lines.append(f"{label.split(' (')[0]}")
-        lines.append(f"   NADIR   {_fmt(a.get('median'))} / {_fmt(a.get('p90'))}")
-        lines.append(f"   oblique {_fmt(b.get('median'))} / {_fmt(b.get('p90'))}")
+        lines.append(f"   NADIR   {fmt(a.get('median'))} / {fmt(a.get('p90'))}")
+        lines.append(f"   oblique {fmt(b.get('median'))} / {fmt(b.get('p90'))}")
     ax.text(0.0, 1.0, "\n".join(lines), va="top", family="monospace", fontsize=9, transform=ax.transAxes)
     fig.suptitle(f"Estimate errors vs ground truth — {result.get('objects', 0)} objects in "
                  f"{result.get('scenes', 0)} scenes (outliers drawn in the last bin)")
@@ -136,7 +128,7 @@ def _success_bars(ax, groups: dict, title: str, xlabel: str) -> None:
 
 def plot_success(result: dict, path: Path) -> Path:
     """Pick success by object type, by width, by number of objects in the scene."""
-    plt = _plt()
+    plt = pyplot()
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.8))
     _success_bars(axes[0], result.get("success_by_kind", {}), "Success by object type", "object type")
     _success_bars(axes[1], result.get("success_by_width_mm", {}), "Success by object width",
@@ -144,7 +136,7 @@ def plot_success(result: dict, path: Path) -> Path:
     _success_bars(axes[2], result.get("success_by_scene_objects", {}), "Success by scene crowding",
                   "objects in the scene")
     fig.suptitle(f"Pick success: {result.get('picked', 0)}/{result.get('objects', 0)} objects "
-                 f"({_pct(result.get('success_rate'))})")
+                 f"({pct(result.get('success_rate'))})")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -157,7 +149,7 @@ def plot_failures(result: dict, path: Path) -> Path:
 
     from matplotlib.ticker import MaxNLocator
 
-    plt = _plt()
+    plt = pyplot()
     items = [(textwrap.fill(f"{stage}: {reason}", 48), n)
              for stage, f in result.get("failures_by_stage", {}).items() for reason, n in f["reasons"].items()]
     fig, ax = plt.subplots(figsize=(11, max(3.0, 0.6 * len(items) + 1.5)))
@@ -187,7 +179,7 @@ def plot_timing(result: dict, path: Path) -> Path:
     """Time per scene split by stage, and scene time vs number of objects."""
     import numpy as np
 
-    plt = _plt()
+    plt = pyplot()
     rows = result.get("scene_rows", [])
     fig, axes = plt.subplots(1, 3, figsize=(16, 4.8), gridspec_kw={"width_ratios": [2.2, 1, 1.2]})
     ax = axes[0]
@@ -253,24 +245,6 @@ def write_plots(result: dict, out_dir: str | Path) -> dict:
 
 
 # ------------------------------------------------------------------------------ markdown
-def _fmt(v, nd: int = 2) -> str:
-    return "n/a" if v is None else f"{v:.{nd}f}"
-
-
-def _short(text: str, n: int = 160) -> str:
-    return text if len(text) <= n else text[:n].rstrip() + "…"
-
-
-def _pct(v) -> str:
-    return "n/a" if v is None else f"{100.0 * v:.1f} %"
-
-
-def _table(header: list[str], rows: list[list]) -> list[str]:
-    out = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
-    out += ["| " + " | ".join(str(c).replace("|", "\\|").replace("\n", " ") for c in r) + " |" for r in rows]
-    return out + [""]
-
-
 def _md_intro(r: dict, json_path: Optional[str | Path]) -> list[str]:
     """Title and the paragraph saying what a scene runs."""
     L = [f"# Grasp benchmark — {r['scenes']} scenes, seed {r['seed']}", ""]
@@ -286,29 +260,29 @@ def _md_intro(r: dict, json_path: Optional[str | Path]) -> list[str]:
 
 def _md_headline(r: dict) -> list[str]:
     L = ["## Headline", ""]
-    L += _table(["figure", "value"], [
+    L += md_table(["figure", "value"], [
         ["scenes (raised)", f"{r['scenes']} ({r['scenes_failed']})"],
         ["objects", r["objects"]],
-        ["picked into the tray", f"{r['picked']} ({_pct(r['success_rate'])})"],
-        ["pipeline-reported pick success (per attempt)", _pct(r.get("reported_success_rate"))],
+        ["picked into the tray", f"{r['picked']} ({pct(r['success_rate'])})"],
+        ["pipeline-reported pick success (per attempt)", pct(r.get("reported_success_rate"))],
         ["reported success but not in the tray", r.get("false_successes", 0)],
-        ["objects reaching NADIR in the scan", _pct(r["scan_success_rate"])],
-        ["time per scene (median / p90)", f"{_fmt(r['time_per_scene_s']['median'], 1)} / "
-                                          f"{_fmt(r['time_per_scene_s']['p90'], 1)} s"],
-        ["time per object (median)", f"{_fmt(r['time_per_object_s']['median'], 1)} s"],
+        ["objects reaching NADIR in the scan", pct(r["scan_success_rate"])],
+        ["time per scene (median / p90)", f"{fmt(r['time_per_scene_s']['median'], 1)} / "
+                                          f"{fmt(r['time_per_scene_s']['p90'], 1)} s"],
+        ["time per object (median)", f"{fmt(r['time_per_object_s']['median'], 1)} s"],
         ["wall time", f"{r['wall_time_s']:.1f} s"],
-        ["throughput", f"{_fmt(r['scenes_per_minute'], 2)} scenes/min"],
+        ["throughput", f"{fmt(r['scenes_per_minute'], 2)} scenes/min"],
         ["real-time factor (run / pick loop)",
-         f"{_fmt((r.get('real_time_factor') or {}).get('run'), 1)} / "
-         f"{_fmt((r.get('real_time_factor') or {}).get('pick_loop'), 1)}"],
+         f"{fmt((r.get('real_time_factor') or {}).get('run'), 1)} / "
+         f"{fmt((r.get('real_time_factor') or {}).get('pick_loop'), 1)}"],
     ])
     return L
 
 
 def _md_targets(r: dict) -> list[str]:
     L = ["## Targets", ""]
-    L += _table(["target", "value", "required", "met"], [
-        [k, _fmt(v["value"], 3), v["target"], {True: "yes", False: "**no**", None: "n/a"}[v["met"]]]
+    L += md_table(["target", "value", "required", "met"], [
+        [k, fmt(v["value"], 3), v["target"], {True: "yes", False: "**no**", None: "n/a"}[v["met"]]]
         for k, v in r.get("targets", {}).items()])
     return L
 
@@ -322,8 +296,8 @@ def _md_scan_improvement(r: dict) -> list[str]:
         s = r["scan_improvement"][metric]
         o, n = s["oblique_median"], s["nadir_median"]
         gain = "n/a" if o is None or n is None or n <= 0 else f"{o / n:.1f}×"
-        rows.append([label, _fmt(o), _fmt(n), gain])
-    L += _table(["error", "oblique", "NADIR", "oblique / NADIR"], rows)
+        rows.append([label, fmt(o), fmt(n), gain])
+    L += md_table(["error", "oblique", "NADIR", "oblique / NADIR"], rows)
     return L
 
 
@@ -332,8 +306,8 @@ def _md_accuracy(r: dict) -> list[str]:
     rows = []
     for metric, label, _t in ERROR_PANELS:
         a, b = r["accuracy"][metric], r["accuracy_oblique"][metric]
-        rows.append([label, _fmt(a["median"]), _fmt(a["p90"]), a["n"], _fmt(b["median"]), _fmt(b["p90"]), b["n"]])
-    L += _table(["error", "NADIR median", "NADIR p90", "n", "oblique median", "oblique p90", "n"], rows)
+        rows.append([label, fmt(a["median"]), fmt(a["p90"]), a["n"], fmt(b["median"]), fmt(b["p90"]), b["n"]])
+    L += md_table(["error", "NADIR median", "NADIR p90", "n", "oblique median", "oblique p90", "n"], rows)
     L += ["Yaw is scored for cubes and cuboids: modulo 90° for cubes and for cuboids whose sides "
           "differ by no more than perception's `obb.width_tol_m` (two equivalent closing directions, "
           "method.md §2.3; their width is compared with the side the estimate closes on), modulo 180° "
@@ -345,23 +319,23 @@ def _md_accuracy(r: dict) -> list[str]:
 def _md_failures(r: dict) -> list[str]:
     L = ["## Failures", ""]
     if r["failures_by_stage"]:
-        L += _table(["stage", "reason", "objects"],
+        L += md_table(["stage", "reason", "objects"],
                     [[s, reason, n] for s, f in r["failures_by_stage"].items() for reason, n in f["reasons"].items()])
     else:
         L += ["No failed objects.", ""]
     if r.get("scan_failures"):
         L += ["Scan failures (the objects may still have been picked):", ""]
-        L += _table(["scan failure", "scenes"], [[k, v] for k, v in r["scan_failures"].items()])
+        L += md_table(["scan failure", "scenes"], [[k, v] for k, v in r["scan_failures"].items()])
     L += ["![failures](failures.png)", ""]
     return L
 
 
 def _md_success(r: dict) -> list[str]:
     L = ["## Success by object type and size", ""]
-    L += _table(["group", "picked / objects", "success"],
-                [[f"type {k}", f"{g['picked']}/{g['objects']}", _pct(g["success_rate"])]
+    L += md_table(["group", "picked / objects", "success"],
+                [[f"type {k}", f"{g['picked']}/{g['objects']}", pct(g["success_rate"])]
                  for k, g in r["success_by_kind"].items()]
-                + [[f"width {k} mm", f"{g['picked']}/{g['objects']}", _pct(g["success_rate"])]
+                + [[f"width {k} mm", f"{g['picked']}/{g['objects']}", pct(g["success_rate"])]
                    for k, g in r["success_by_width_mm"].items()])
     L += ["![success](success.png)", ""]
     return L
@@ -369,8 +343,8 @@ def _md_success(r: dict) -> list[str]:
 
 def _md_time(r: dict) -> list[str]:
     L = ["## Time", ""]
-    L += _table(["stage", "median [s]", "p90 [s]", "mean [s]"],
-                [[k, _fmt(v["median"], 1), _fmt(v["p90"], 1), _fmt(v["mean"], 1)]
+    L += md_table(["stage", "median [s]", "p90 [s]", "mean [s]"],
+                [[k, fmt(v["median"], 1), fmt(v["p90"], 1), fmt(v["mean"], 1)]
                  for k, v in r["time_per_stage_s"].items()])
     L += ["![timing](timing.png)", ""]
     return L
@@ -378,9 +352,9 @@ def _md_time(r: dict) -> list[str]:
 
 def _md_scenes(r: dict) -> list[str]:
     L = ["## Scenes", "", "Reproduce one: `grasp-pipeline run --scene random --seed <seed>`.", ""]
-    L += _table(["#", "seed", "objects", "picked", "time [s]", "errors"],
-                [[s["index"], s["seed"], s["objects"], s["picks"], _fmt(s["timings"].get("wall_s"), 1),
-                  "; ".join(_short(e) for e in s["errors"]) or "—"] for s in r["scene_rows"]])
+    L += md_table(["#", "seed", "objects", "picked", "time [s]", "errors"],
+                [[s["index"], s["seed"], s["objects"], s["picks"], fmt(s["timings"].get("wall_s"), 1),
+                  "; ".join(short(e) for e in s["errors"]) or "—"] for s in r["scene_rows"]])
     return L
 
 

@@ -17,7 +17,9 @@ import os
 import platform
 import time
 from contextlib import contextmanager
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Optional
 
 import numpy as np
 from tqdm import tqdm
@@ -34,6 +36,68 @@ TARGET_MEDIAN_MS = 10.0
 TARGET_SPEEDUP = 20.0
 DISTINCT_FRAMES = 4  # noise realisations cycled through (each frame is new to the filter)
 FRAME_WIDTH_PX = PinholeCamera().width_px  # the synthetic frames' image width
+BASELINE_IMPLEMENTATION = "numpy RANSAC (method.md §1.1-1.3) + Open3D cluster_dbscan + Open3D OBB"
+
+
+@dataclass(frozen=True)
+class FrameTimes:
+    """Wall-clock times of the timed frames [ms]."""
+
+    median_ms: float
+    p90_ms: float
+    mean_ms: float
+    min_ms: float
+    frames: int
+
+
+@dataclass(frozen=True, kw_only=True)
+class BaselineTimes:
+    """The original Python design's times on the same frames [ms], and its object counts."""
+
+    median_ms: float
+    p90_ms: float
+    mean_ms: float
+    min_ms: float
+    frames: int
+    objects_per_frame: tuple[int, ...]
+    implementation: str = BASELINE_IMPLEMENTATION
+
+
+@dataclass(frozen=True)
+class PerceptionTargets:
+    median_ms_max: float = TARGET_MEDIAN_MS
+    speedup_min: float = TARGET_SPEEDUP
+
+
+@dataclass(frozen=True)
+class PerceptionMachine:
+    python: str
+    processor: str
+    cpus: Optional[int]
+
+
+@dataclass(frozen=True, kw_only=True)
+class PerceptionBenchResult:
+    """The per-frame path's times (``median_ms`` ... ``frames``: the whole path, one call into
+    C++ with the binding's conversions; ``breakdown_*``: its C++ parts), the baseline's and the
+    speed-up (None without a baseline)."""
+
+    points_per_frame: int
+    median_ms: float
+    p90_ms: float
+    mean_ms: float
+    min_ms: float
+    frames: int
+    breakdown_median_ms: dict[str, float]
+    breakdown_p90_ms: dict[str, float]
+    objects_per_frame: tuple[int, ...]
+    pinned_cpu: Optional[int]
+    baseline: Optional[BaselineTimes]
+    baseline_note: Optional[str]
+    speedup: Optional[float]
+    targets: PerceptionTargets = PerceptionTargets()
+    machine: PerceptionMachine
+    meets_targets: bool
 
 
 def open3d_available() -> bool:
@@ -56,10 +120,10 @@ def one_core():
         os.sched_setaffinity(0, before)
 
 
-def _stats(ms: list[float]) -> dict:
+def _times(ms: list[float]) -> FrameTimes:
     a = np.asarray(ms)
-    return {"median_ms": float(np.median(a)), "p90_ms": float(np.percentile(a, 90)),
-            "mean_ms": float(a.mean()), "min_ms": float(a.min()), "frames": int(len(a))}
+    return FrameTimes(median_ms=float(np.median(a)), p90_ms=float(np.percentile(a, 90)),
+                      mean_ms=float(a.mean()), min_ms=float(a.min()), frames=int(len(a)))
 
 
 def _time_frames(per, clouds: list, frames: int, warmup_frames: int) -> tuple[list, dict, list]:
@@ -94,7 +158,7 @@ def _time_frames(per, clouds: list, frames: int, warmup_frames: int) -> tuple[li
     return totals, parts, n_objects
 
 
-def _time_baseline(clouds: list, sf_cfg, baseline_frames: int) -> tuple[dict | None, str | None]:
+def _time_baseline(clouds: list, sf_cfg, baseline_frames: int) -> tuple[Optional[BaselineTimes], Optional[str]]:
     """(stats, note) of the original Python design on ``baseline_frames`` frames; (None, None)
     when not asked for, (None, why) when Open3D is missing."""
     baseline, baseline_note = None, None
@@ -112,15 +176,15 @@ def _time_baseline(clouds: list, sf_cfg, baseline_frames: int) -> tuple[dict | N
             res = baseline_frame(pts, sf_cfg, seed=i)
             b_ms.append((time.perf_counter() - t0) * 1e3)
             b_objects.append(len(res["boxes"]))
-        baseline = _stats(b_ms)
-        baseline["objects_per_frame"] = b_objects
-        baseline["implementation"] = "numpy RANSAC (method.md §1.1-1.3) + Open3D cluster_dbscan + Open3D OBB"
+        t = _times(b_ms)
+        baseline = BaselineTimes(median_ms=t.median_ms, p90_ms=t.p90_ms, mean_ms=t.mean_ms, min_ms=t.min_ms,
+                                 frames=t.frames, objects_per_frame=tuple(b_objects))
     return baseline, baseline_note
 
 
 def run_perception_benchmark(frames: int = 50, json_path: str | Path | None = None,
-                             baseline_frames: int = 5, warmup_frames: int = 5) -> dict:
-    """Time the per-frame path (and the baseline); write and return the JSON dict."""
+                             baseline_frames: int = 5, warmup_frames: int = 5) -> PerceptionBenchResult:
+    """Time the per-frame path (and the baseline); write (``json_path``) and return the result."""
     if frames < 1:
         raise ValueError("frames: expected at least 1")
     sf_cfg, obb_cfg = SceneFilterConfig(), ObbConfig()
@@ -130,25 +194,18 @@ def run_perception_benchmark(frames: int = 50, json_path: str | Path | None = No
     with one_core() as cpu:
         totals, parts, n_objects = _time_frames(per, clouds, frames, warmup_frames)
         baseline, baseline_note = _time_baseline(clouds, sf_cfg, baseline_frames)
-
-    result = {
-        "points_per_frame": int(len(clouds[0][0])),
-        **_stats(totals),
-        "breakdown_median_ms": {k: float(np.median(v)) for k, v in parts.items()},
-        "breakdown_p90_ms": {k: float(np.percentile(v, 90)) for k, v in parts.items()},
-        "objects_per_frame": sorted(set(n_objects)),
-        "pinned_cpu": cpu,
-        "baseline": baseline,
-        "baseline_note": baseline_note,
-        "speedup": (baseline["median_ms"] / float(np.median(totals))) if baseline else None,
-        "targets": {"median_ms_max": TARGET_MEDIAN_MS, "speedup_min": TARGET_SPEEDUP},
-        "machine": {"python": platform.python_version(), "processor": platform.processor(),
-                    "cpus": os.cpu_count()},
-    }
-    result["meets_targets"] = bool(
-        result["median_ms"] <= TARGET_MEDIAN_MS
-        and (result["speedup"] is not None and result["speedup"] >= TARGET_SPEEDUP))
+    t = _times(totals)
+    speedup = (baseline.median_ms / float(np.median(totals))) if baseline else None
+    result = PerceptionBenchResult(
+        points_per_frame=int(len(clouds[0][0])), median_ms=t.median_ms, p90_ms=t.p90_ms, mean_ms=t.mean_ms,
+        min_ms=t.min_ms, frames=t.frames,
+        breakdown_median_ms={k: float(np.median(v)) for k, v in parts.items()},
+        breakdown_p90_ms={k: float(np.percentile(v, 90)) for k, v in parts.items()},
+        objects_per_frame=tuple(sorted(set(n_objects))), pinned_cpu=cpu, baseline=baseline,
+        baseline_note=baseline_note, speedup=speedup,
+        machine=PerceptionMachine(python=platform.python_version(), processor=platform.processor(),
+                                  cpus=os.cpu_count()),
+        meets_targets=bool(t.median_ms <= TARGET_MEDIAN_MS and speedup is not None and speedup >= TARGET_SPEEDUP))
     if json_path is not None:
         write_json(json_path, result)
     return result
-

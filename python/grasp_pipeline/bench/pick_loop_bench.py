@@ -26,13 +26,40 @@ import inspect
 import tempfile
 import time
 import types
-from typing import Any
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, Optional
 
 import mujoco
 
 from .cpu_accounts import OTHER, CpuAccounts
 
+if TYPE_CHECKING:
+    from ..settings import Settings
+
 ACCOUNTS = ("physics", "render", "perception", "planning", "control", OTHER)
+
+
+@dataclass(frozen=True, kw_only=True)
+class PickLoopResult:
+    """One declutter round's speed: simulated seconds per CPU (and wall) second and where the
+    CPU time went (``breakdown_cpu_s`` by account, adding up to ``cpu_seconds``)."""
+
+    scene: str
+    seed: int
+    objects: str
+    status: str
+    error: Optional[str]
+    picks: int
+    picked: int
+    sim_seconds: float
+    cpu_seconds: float
+    wall_seconds: float
+    cpu_real_time_factor: float
+    real_time_factor: float
+    physics_steps: int
+    breakdown_cpu_s: dict[str, float]
+    breakdown_share: dict[str, float]
+    accounting_cpu_s: float
 
 
 def _public_methods(obj: Any) -> list[str]:
@@ -64,7 +91,7 @@ def _clock_pair_cpu_s(n: int = 2000) -> float:
     return (time.process_time() - t0) / n
 
 
-def run_pick_loop(scene: str, seed: int, objects: str, settings) -> dict:
+def run_pick_loop(scene: str, seed: int, objects: str, settings: "Settings") -> PickLoopResult:
     """One declutter round of ``scene`` / ``seed`` / ``objects`` with ``settings``
     (``grasp_pipeline.settings.Settings`` of ``app.sim_system.SECTIONS``); returns the figures."""
     from ..app.run import default_grasp_source, run_pipeline
@@ -81,15 +108,12 @@ def run_pick_loop(scene: str, seed: int, objects: str, settings) -> dict:
     sim_s = float(report.timings.get("run_sim_s", 0.0))
     cpu = acc.total_s
     seconds = {k: acc.seconds.get(k, 0.0) for k in ACCOUNTS}
-    return {
-        "scene": scene, "seed": seed, "objects": objects, "status": report.status,
-        "error": report.error,
-        "picks": len(report.picks), "picked": sum(1 for p in report.picks if p.success),
-        "sim_seconds": sim_s, "cpu_seconds": cpu, "wall_seconds": wall,
-        "cpu_real_time_factor": sim_s / cpu if cpu > 0 else 0.0,
-        "real_time_factor": sim_s / wall if wall > 0 else 0.0,
-        "physics_steps": acc.calls.get("physics", 0),
-        "breakdown_cpu_s": seconds,
-        "breakdown_share": {k: (v / cpu if cpu > 0 else 0.0) for k, v in seconds.items()},
-        "accounting_cpu_s": sum(acc.calls.values()) * _clock_pair_cpu_s(),
-    }
+    return PickLoopResult(
+        scene=scene, seed=seed, objects=objects, status=report.status, error=report.error,
+        picks=len(report.picks), picked=sum(1 for p in report.picks if p.success),
+        sim_seconds=sim_s, cpu_seconds=cpu, wall_seconds=wall,
+        cpu_real_time_factor=sim_s / cpu if cpu > 0 else 0.0,
+        real_time_factor=sim_s / wall if wall > 0 else 0.0,
+        physics_steps=acc.calls.get("physics", 0), breakdown_cpu_s=seconds,
+        breakdown_share={k: (v / cpu if cpu > 0 else 0.0) for k, v in seconds.items()},
+        accounting_cpu_s=sum(acc.calls.values()) * _clock_pair_cpu_s())

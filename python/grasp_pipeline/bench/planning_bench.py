@@ -21,7 +21,9 @@ from __future__ import annotations
 
 import logging
 import time
+from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import Optional
 
 import numpy as np
 
@@ -32,13 +34,56 @@ from ..orchestration.execution.grasp_planning import plan_grasp
 from ..orchestration.grasping.opening import max_grasp_width_m
 from ..orchestration.scene.scene_model import snapshot
 from ..orchestration.scene.tracks import nearest_track
+from ..report.serialize import OMIT_IF_NONE
 from ..results import MotionRecord
 from ..robot.description import GRIPPER_MAX_WIDTH_M
 from ..robot.protocols import ContactAllowance
+from .planning_hard import HardPlanningResult, run_hard_set
 
 log = logging.getLogger(__name__)
 
 MOTION_TIMEOUT_S = 60.0  # simulated limit of one executed motion
+PERCEPTION = "the run's perception loop (C++ core + tracker)"
+
+
+@dataclass(frozen=True)
+class KindFigures:
+    """The motions of one kind (pregrasp, approach, lift, ...): how many, how many succeeded,
+    median planning time [ms] (wall and thread CPU)."""
+
+    plans: int
+    success_rate: float
+    median_ms: Optional[float]
+    cpu_median_ms: Optional[float]
+
+
+@dataclass(frozen=True, kw_only=True)
+class PlanningBenchResult:
+    """Every planned motion's success (planned and executed without a stop) and planning time
+    [ms] (wall; ``cpu_*``: the planning thread's CPU time; ``toppra_*``: the time-parametrization),
+    by kind; ``failures``: the first 50 failed motions. ``hard``: with ``--hard``."""
+
+    scenes: int
+    seed: int
+    plans: int
+    successes: int
+    success_rate: Optional[float]
+    median_ms: Optional[float]
+    p90_ms: Optional[float]
+    max_ms: Optional[float]
+    cpu_median_ms: Optional[float]
+    cpu_p90_ms: Optional[float]
+    toppra_median_ms: Optional[float]
+    toppra_p90_ms: Optional[float]
+    robot_contacts_during_motion: int
+    contact_examples: tuple[str, ...]
+    methods: dict[str, int]
+    by_kind: dict[str, KindFigures]
+    failures: tuple[MotionRecord, ...]
+    wall_time_s: float
+    planner: str
+    perception: str = PERCEPTION
+    hard: Optional[HardPlanningResult] = field(default=None, metadata=OMIT_IF_NONE)
 
 
 def _median(x: list[float]):
@@ -54,7 +99,7 @@ class _Recorder:
 
     def __init__(self, system, scene_name: str) -> None:
         self.system, self.scene = system, scene_name
-        self.records: list[dict] = []
+        self.records: list[MotionRecord] = []
         self.contacts: list[str] = []
 
     def execute(self, kind: str, traj, allowance=ContactAllowance.NONE) -> bool:
@@ -125,7 +170,7 @@ def _grasp_motions(system, rec: _Recorder, track, settings) -> None:
     rec.plan("grasp_return", lambda: motion.planner.plan_to_joints(motion.q_cmd, system.start_q))
 
 
-def benchmark_scene(seed: int, settings) -> tuple[list[dict], list[str]]:
+def benchmark_scene(seed: int, settings) -> tuple[list[MotionRecord], list[str]]:
     """All motions of one scene: (records, contact descriptions)."""
     from ..app.sim_system import build_system
     from ..sim.scenes import random_scene
@@ -150,38 +195,41 @@ def benchmark_scene(seed: int, settings) -> tuple[list[dict], list[str]]:
     return rec.records, rec.contacts
 
 
-def _summary(records: list[dict], contacts: list[str], scenes: int, seed: int, wall_s: float,
-             planner: str) -> dict:
+def _by_kind(records: list[MotionRecord]) -> dict[str, KindFigures]:
+    out = {}
+    for kind in sorted({r["kind"] for r in records}):
+        rs = [r for r in records if r["kind"] == kind]
+        out[kind] = KindFigures(plans=len(rs), success_rate=sum(r["ok"] for r in rs) / len(rs),
+                                median_ms=_median([r["planning_ms"] for r in rs if "planning_ms" in r]),
+                                cpu_median_ms=_median([r["planning_cpu_ms"] for r in rs if "planning_cpu_ms" in r]))
+    return out
+
+
+def _summary(records: list[MotionRecord], contacts: list[str], scenes: int, seed: int, wall_s: float,
+             planner: str) -> PlanningBenchResult:
     ms = [r["planning_ms"] for r in records if "planning_ms" in r]
     cpu = [r["planning_cpu_ms"] for r in records if "planning_cpu_ms" in r]
     tms = [r["toppra_ms"] for r in records if "toppra_ms" in r]
-    by_kind, methods = {}, {}
-    for kind in sorted({r["kind"] for r in records}):
-        rs = [r for r in records if r["kind"] == kind]
-        by_kind[kind] = {"plans": len(rs), "success_rate": sum(r["ok"] for r in rs) / len(rs),
-                         "median_ms": _median([r["planning_ms"] for r in rs if "planning_ms" in r]),
-                         "cpu_median_ms": _median([r["planning_cpu_ms"] for r in rs if "planning_cpu_ms" in r])}
+    methods: dict[str, int] = {}
     for r in records:
         methods[r.get("method", "")] = methods.get(r.get("method", ""), 0) + 1
-    return {"scenes": scenes, "seed": seed, "plans": len(records),
-            "successes": int(sum(r["ok"] for r in records)),
-            "success_rate": (sum(r["ok"] for r in records) / len(records)) if records else None,
-            "median_ms": _median(ms), "p90_ms": _p90(ms), "max_ms": max(ms) if ms else None,
-            "cpu_median_ms": _median(cpu), "cpu_p90_ms": _p90(cpu),
-            "toppra_median_ms": _median(tms), "toppra_p90_ms": _p90(tms),
-            "robot_contacts_during_motion": len(contacts), "contact_examples": contacts[:20],
-            "methods": methods, "by_kind": by_kind,
-            "failures": [r for r in records if not r["ok"]][:50], "wall_time_s": wall_s,
-            "planner": planner, "perception": "the run's perception loop (C++ core + tracker)"}
+    return PlanningBenchResult(
+        scenes=scenes, seed=seed, plans=len(records), successes=int(sum(r["ok"] for r in records)),
+        success_rate=(sum(r["ok"] for r in records) / len(records)) if records else None,
+        median_ms=_median(ms), p90_ms=_p90(ms), max_ms=max(ms) if ms else None,
+        cpu_median_ms=_median(cpu), cpu_p90_ms=_p90(cpu), toppra_median_ms=_median(tms), toppra_p90_ms=_p90(tms),
+        robot_contacts_during_motion=len(contacts), contact_examples=tuple(contacts[:20]),
+        methods=methods, by_kind=_by_kind(records), failures=tuple(r for r in records if not r["ok"])[:50],
+        wall_time_s=wall_s, planner=planner)
 
 
 def run_planning_benchmark(scenes: int, seed: int, json_path: str | Path | None,
                            overrides: tuple = (None, ()), hard_pairs: int = 0,
-                           hard_only: bool = False) -> dict:
+                           hard_only: bool = False) -> PlanningBenchResult:
     """Run the benchmark on ``scenes`` random scenes (seeds ``seed`` … ``seed+scenes-1``);
     ``overrides``: ``(config_file, [name=value, ...])`` for the settings. ``hard_pairs`` > 0
     adds the checker throughput and the hard set (that many blocked-line start/goal pairs per
-    perceived packed scene, :mod:`.planning_hard`) under ``"hard"``; ``hard_only`` skips the
+    perceived packed scene, :mod:`.planning_hard`) under ``hard``; ``hard_only`` skips the
     executed random-scene motions."""
     from ..app.sim_system import SECTIONS
     from ..report.serialize import check_writable, write_json
@@ -203,9 +251,7 @@ def run_planning_benchmark(scenes: int, seed: int, json_path: str | Path | None,
     result = _summary(records, contacts, 0 if hard_only else scenes, seed, time.perf_counter() - t0,
                       settings.motion.planner)
     if hard_pairs > 0:
-        from .planning_hard import run_hard_set
-
-        result["hard"] = run_hard_set(scenes, seed, hard_pairs, settings)
+        result = replace(result, hard=run_hard_set(scenes, seed, hard_pairs, settings))
     if json_path is not None:
         write_json(json_path, result, sort_keys=True)
     return result

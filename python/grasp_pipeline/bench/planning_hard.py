@@ -16,11 +16,16 @@ fixtures) is handed to the motion planner exactly as the grasp action does. Then
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Optional
 
 import numpy as np
 
 from ..motion.exceptions import MotionError
 from ..motion.validity import StateValidator
+
+if TYPE_CHECKING:
+    from ..settings import Settings
 
 #: Random states of the throughput measurement.
 THROUGHPUT_STATES = 200_000
@@ -30,7 +35,45 @@ THROUGHPUT_SINGLE_STATES = 50_000
 MAX_SAMPLES_PER_PAIR = 2000
 
 
-def perceived_planner(seed: int, settings):
+@dataclass(frozen=True)
+class CheckerThroughput:
+    """States checked per CPU second of one thread: one call per state, and one batch."""
+
+    batched_states_per_s: float
+    single_states_per_s: float
+    valid_fraction: float
+    states: int
+
+
+@dataclass(frozen=True, kw_only=True)
+class HardSetSummary:
+    """The hard set's outcome: success and planning time [ms] (wall and thread CPU) of the
+    pairs planned; ``reference_violations``: returned paths the reference validator refuses."""
+
+    scenes: int
+    pairs_wanted: int
+    pairs: int
+    successes: int
+    success_rate: Optional[float]
+    median_ms: Optional[float]
+    p90_ms: Optional[float]
+    max_ms: Optional[float]
+    cpu_median_ms: Optional[float]
+    cpu_p90_ms: Optional[float]
+    reference_violations: int
+    failures: tuple[dict, ...]
+
+
+@dataclass(frozen=True)
+class HardPlanningResult:
+    """``bench planning --hard``: the checker throughput (first scene; None without a scene)
+    and the hard set."""
+
+    checker_throughput: Optional[CheckerThroughput]
+    hard_set: HardSetSummary
+
+
+def perceived_planner(seed: int, settings: "Settings"):
     """(system, motion planner) with the perceived packed scene after the rough view and scan."""
     from ..app.sim_system import build_system, make_scene
     from ..orchestration.scene.scene_model import snapshot
@@ -47,7 +90,7 @@ def perceived_planner(seed: int, settings):
     return system, system.motion.planner
 
 
-def checker_throughput(validator: StateValidator, rng: np.random.Generator) -> dict:
+def checker_throughput(validator: StateValidator, rng: np.random.Generator) -> CheckerThroughput:
     """States per CPU second of one thread, single calls and one batch."""
     Q = rng.uniform(validator.q_min, validator.q_max, size=(THROUGHPUT_STATES, 7))
     core = validator.core()
@@ -59,8 +102,8 @@ def checker_throughput(validator: StateValidator, rng: np.random.Generator) -> d
     for q in Q[:THROUGHPUT_SINGLE_STATES]:
         check(q)
     single = THROUGHPUT_SINGLE_STATES / max(time.thread_time() - t0, 1e-9)
-    return {"batched_states_per_s": batched, "single_states_per_s": single,
-            "valid_fraction": float(valid.mean()), "states": len(Q)}
+    return CheckerThroughput(batched_states_per_s=batched, single_states_per_s=single,
+                             valid_fraction=float(valid.mean()), states=len(Q))
 
 
 def hard_pairs(validator: StateValidator, n: int, step_rad: float, rng: np.random.Generator) -> list:
@@ -101,20 +144,22 @@ def solve_hard_set(planner, pairs: list, scene: str) -> list[dict]:
     return records
 
 
-def summarize_hard(records: list[dict], wanted: int, scenes: int) -> dict:
+def summarize_hard(records: list[dict], wanted: int, scenes: int) -> HardSetSummary:
+    """The hard set's figures from one record per pair (:func:`solve_hard_set`)."""
     ms = [r["planning_ms"] for r in records if r["ok"]]
     cpu = [r["cpu_ms"] for r in records if r["ok"]]
     pct = (lambda x, q: float(np.percentile(x, q)) if x else None)
-    return {"scenes": scenes, "pairs_wanted": wanted * scenes, "pairs": len(records),
-            "successes": sum(r["ok"] for r in records),
-            "success_rate": (sum(r["ok"] for r in records) / len(records)) if records else None,
-            "median_ms": pct(ms, 50), "p90_ms": pct(ms, 90), "max_ms": max(ms) if ms else None,
-            "cpu_median_ms": pct(cpu, 50), "cpu_p90_ms": pct(cpu, 90),
-            "reference_violations": sum(1 for r in records if r["ok"] and not r["reference_ok"]),
-            "failures": [r for r in records if not r["ok"]][:20]}
+    return HardSetSummary(
+        scenes=scenes, pairs_wanted=wanted * scenes, pairs=len(records),
+        successes=sum(r["ok"] for r in records),
+        success_rate=(sum(r["ok"] for r in records) / len(records)) if records else None,
+        median_ms=pct(ms, 50), p90_ms=pct(ms, 90), max_ms=max(ms) if ms else None,
+        cpu_median_ms=pct(cpu, 50), cpu_p90_ms=pct(cpu, 90),
+        reference_violations=sum(1 for r in records if r["ok"] and not r["reference_ok"]),
+        failures=tuple(r for r in records if not r["ok"])[:20])
 
 
-def run_hard_set(scenes: int, seed: int, pairs_per_scene: int, settings) -> dict:
+def run_hard_set(scenes: int, seed: int, pairs_per_scene: int, settings: "Settings") -> HardPlanningResult:
     """Throughput (first scene) and the hard set over packed scenes ``seed .. seed+scenes-1``."""
     rng = np.random.default_rng(seed)
     records, throughput = [], None
@@ -127,4 +172,4 @@ def run_hard_set(scenes: int, seed: int, pairs_per_scene: int, settings) -> dict
             records += solve_hard_set(planner, pairs, f"packed-{seed + k}")
         finally:
             system.close()
-    return {"checker_throughput": throughput, "hard_set": summarize_hard(records, pairs_per_scene, scenes)}
+    return HardPlanningResult(throughput, summarize_hard(records, pairs_per_scene, scenes))

@@ -7,7 +7,7 @@ Without ``address`` a local Ray instance starts by itself with ``workers`` CPUs;
 one Ray task with ``num_cpus=1`` in a worker process that runs **only that job**
 (``max_calls=1``: a fresh process per job, as OMPL's random generator is seeded once per
 process, so results are identical to the local backend for a seed). Workers get the job
-environment (:func:`.scheduler.worker_env`: ``MUJOCO_GL``, one thread) through Ray's
+environment (:func:`.jobs.worker_env`: ``MUJOCO_GL``, one thread) through Ray's
 ``runtime_env`` before they import MuJoCo. A task whose worker dies, raises inside Ray or
 exceeds ``timeout_s`` costs its job only (a failed record with the reason); tasks are not
 retried (a crash would repeat).
@@ -21,6 +21,7 @@ import sys
 import time
 
 from ..exceptions import GraspPipelineError
+from .jobs import JobSpec, add_process_cpu, worker_env
 
 log = logging.getLogger(__name__)
 
@@ -52,8 +53,6 @@ def _job(run_fn, task: tuple, log_level: int, tag: str) -> dict:
     """The body of a Ray task: run one job in this (fresh) worker process."""
     from ..logs import setup_logging
 
-    from .scheduler import add_process_cpu
-
     setup_logging(log_level, tag=f"[{tag} {task[0]}] ")
     rec = run_fn(task)
     add_process_cpu(rec)
@@ -76,7 +75,7 @@ def _start(ray, address, workers: int, env: dict):
 class _RayRun:
     """The submitted tasks of one benchmark and their bookkeeping."""
 
-    def __init__(self, ray, spec, timeout_s: float, bar) -> None:
+    def __init__(self, ray, spec: JobSpec, timeout_s: float, bar) -> None:
         self.ray, self.spec, self.timeout_s, self.bar = ray, spec, timeout_s, bar
         self.remote = ray.remote(num_cpus=1, max_calls=1, max_retries=0)(_job)
         self.level = logging.getLogger().getEffectiveLevel()
@@ -112,12 +111,10 @@ class _RayRun:
                 self._done(ref, self.spec.failed_fn(task, err, now - t0))
 
 
-def run_jobs_ray(tasks: list[tuple], spec, workers: int, timeout_s: float, progress: bool,
+def run_jobs_ray(tasks: list[tuple], spec: JobSpec, workers: int, timeout_s: float, progress: bool,
                  address=None) -> tuple[list[dict], bool]:
     """Like :func:`.scheduler.run_jobs`, on Ray; at most ``workers`` tasks in flight."""
     from tqdm import tqdm
-
-    from .scheduler import worker_env
 
     ray = import_ray()
     started = _start(ray, address, workers, worker_env())

@@ -14,7 +14,8 @@ record); a child that dies (signal, segfault) or exceeds ``timeout_s`` is record
 ``failed_fn`` and the benchmark goes on. Ctrl-C / SIGTERM stops the running jobs — SIGINT first
 (unless Ctrl-C reached them already), so each run holds its arm and writes its report saying
 interrupted, then SIGKILL for what still runs after :data:`STOP_GRACE_S` — and returns the
-records finished so far.
+records finished so far. What a job is (:class:`~.jobs.JobSpec`) and the workers' environment:
+:mod:`.jobs`.
 """
 
 from __future__ import annotations
@@ -25,44 +26,17 @@ import signal
 import sys
 import time
 from contextlib import contextmanager
-from dataclasses import dataclass
-from typing import Callable, Optional
+from typing import Optional
+
+from .jobs import JobSpec, add_process_cpu, worker_env
 
 log = logging.getLogger(__name__)
-
-#: Environment of the worker processes: one thread each (set before they import numpy).
-SINGLE_THREAD_ENV = {
-    "OMP_NUM_THREADS": "1",
-    "OPENBLAS_NUM_THREADS": "1",
-    "MKL_NUM_THREADS": "1",
-    "NUMEXPR_NUM_THREADS": "1",
-    "VECLIB_MAXIMUM_THREADS": "1",
-    "BLIS_NUM_THREADS": "1",
-    "LP_NUM_THREADS": "1",  # Mesa llvmpipe (software EGL/OSMesa rendering) render threads
-}
-
 
 #: Seconds the running jobs get to end cleanly on Ctrl-C / SIGTERM (each run writes its report
 #: saying interrupted) before they are killed ...
 STOP_GRACE_S = 5.0
 #: ... after this wait for jobs that got the signal themselves (Ctrl-C reaches the whole group).
 OWN_SIGNAL_WAIT_S = 1.0
-
-
-@dataclass(frozen=True)
-class JobSpec:
-    """How to run one kind of job.
-
-    ``run_fn(task) -> dict`` runs in the child (a module-level function: it is pickled);
-    ``failed_fn(task, error, wall_s) -> dict`` makes the record of a job whose process died or
-    timed out (in the parent); ``postfix_fn(records) -> str`` the progress bar's text.
-    Every ``task`` is a tuple whose first element is the job's index."""
-
-    run_fn: Callable
-    failed_fn: Callable
-    postfix_fn: Callable = lambda records: ""
-    desc: str = "bench"
-    tag: str = "job"       # log lines of a worker start with "[<tag> <index>] "
 
 
 @contextmanager
@@ -78,22 +52,6 @@ def child_environment(extra: dict):
                 os.environ.pop(k, None)
             else:
                 os.environ[k] = v
-
-
-def worker_env() -> dict:
-    """The environment of a worker: one thread, the parent's GL backend."""
-    from ..sim.gl_backend import configure_gl  # chooses MUJOCO_GL here (probes once) if unset
-
-    env = dict(SINGLE_THREAD_ENV)
-    env["MUJOCO_GL"] = configure_gl() or os.environ.get("MUJOCO_GL") or "disable"
-    return env
-
-
-def add_process_cpu(rec: dict) -> None:
-    """CPU seconds of this whole job process (start-up and imports included, all threads):
-    what the job costs on an otherwise idle core, whatever else loads the machine."""
-    if isinstance(rec.get("timings"), dict):
-        rec["timings"]["process_cpu_s"] = time.process_time()
 
 
 def _child_main(conn, run_fn, task: tuple, log_level: int, tag: str) -> None:

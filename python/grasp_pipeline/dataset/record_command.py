@@ -60,7 +60,7 @@ def _postfix(records: list[dict]) -> str:
 
 
 def _jobs():
-    from ..bench.scheduler import JobSpec
+    from ..bench.jobs import JobSpec
 
     return JobSpec(run_fn=_record_task, failed_fn=_failed_job, postfix_fn=_postfix,
                    desc="record", tag="job")
@@ -125,7 +125,7 @@ def _batch(needed: int, rows: list[dict], a: dict) -> int:
 
 
 def _tasks(first_job: int, n: int, a: dict, work: Path) -> list[tuple]:
-    from ..bench.grasp_bench import scene_seed
+    from ..bench.seeds import scene_seed
     from .shards import shard_name
 
     out = []

@@ -65,7 +65,7 @@ def _postfix(records: list[dict]) -> str:
 
 
 def _jobs():
-    from ..bench.scheduler import JobSpec
+    from ..bench.jobs import JobSpec
 
     return JobSpec(run_fn=_eval_task, failed_fn=_failed_job, postfix_fn=_postfix, desc="eval", tag="job")
 
@@ -118,7 +118,7 @@ def check_inputs(a: dict):
 
 
 def _tasks(a: dict, per_job: int, overrides: tuple) -> list[tuple]:
-    from ..bench.grasp_bench import scene_seed
+    from ..bench.seeds import scene_seed
 
     videos = None if not a["video"] else str(a["out"] / VIDEOS)
     out = []

@@ -10,7 +10,7 @@ from typing import ClassVar, Mapping
 from ..config_ranges import (FORCE_N, OPENING_M, POSITIVE_FRACTION, Range, angle_rad,
                              check_ranges, count, duration_s, length_m, require, step_m)
 from ..exceptions import ConfigError
-from .grasping.registry import grasp_source_names
+from .grasping.source_names import grasp_source_names
 
 #: What makes a segment ambiguous (:mod:`.scanning.ambiguity`): a footprint wider than the
 #: gripper in every direction; a non-convex outline.

@@ -2,7 +2,9 @@
 
 * :func:`to_jsonable` turns typed results (dataclasses, enums, numpy arrays and scalars,
   tuples, paths) into plain JSON values; non-finite floats become ``null`` — the output is
-  valid JSON (RFC 8259 has no NaN or Infinity).
+  valid JSON (RFC 8259 has no NaN or Infinity). A dataclass gives its fields in declaration
+  order, less those named ``_...`` and those declared with :data:`OMIT_IF_NONE` while None
+  (a key only some results have, e.g. ``interrupted_while``).
 * :func:`write_json` writes atomically: a temporary file in the target folder, flushed, then
   renamed over the target, so an interrupted or failing write never leaves a truncated or
   empty file in place of a good one. Errors name the path (:class:`OutputError`).
@@ -29,6 +31,20 @@ class OutputError(GraspPipelineError, OSError):
     """An output file or folder cannot be written (the message names the path)."""
 
 
+#: Dataclass field metadata (``field(default=None, metadata=OMIT_IF_NONE)``): the key is left
+#: out of the JSON while the value is None.
+OMIT_IF_NONE = {"omit_if_none": True}
+
+
+def _dataclass_items(obj: Any):
+    """(name, value) of the fields of dataclass ``obj`` that the JSON holds."""
+    for f in dataclasses.fields(obj):
+        value = getattr(obj, f.name)
+        if f.name.startswith("_") or (value is None and f.metadata.get("omit_if_none")):
+            continue
+        yield f.name, value
+
+
 def to_jsonable(obj: Any) -> Any:
     """Plain JSON value of ``obj`` (see the module doc)."""
     if obj is None or isinstance(obj, (bool, str)):
@@ -47,8 +63,7 @@ def to_jsonable(obj: Any) -> Any:
     if isinstance(obj, Path):
         return str(obj)
     if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
-        return {f.name: to_jsonable(getattr(obj, f.name)) for f in dataclasses.fields(obj)
-                if not f.name.startswith("_")}
+        return {name: to_jsonable(value) for name, value in _dataclass_items(obj)}
     if isinstance(obj, dict):
         return {str(k): to_jsonable(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple, set, frozenset)):

@@ -13,8 +13,12 @@ from pathlib import Path
 import pytest
 
 from grasp_pipeline.bench import clutter_bench as cb
+from grasp_pipeline.bench.clutter_result import ObjectSuccess, RatePair
+from grasp_pipeline.bench.figures import StageFailures
+from grasp_pipeline.report.serialize import to_jsonable
 
-EXE = Path(sys.executable).parent / "grasp-pipeline"
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from faults import EXE, clean_env  # noqa: E402
 SMALL = {"packed": ["--set", "clutter.objects_per_scene=2", "--rerun", "recs"],  # + a recording per round
          "pile": ["--set", "clutter.objects_per_scene=2"],
          "sparse": ["--set", "sim.object_count=[2,2]"]}
@@ -30,7 +34,7 @@ def runs(tmp_path_factory):
     procs = {}
     for protocol, extra in SMALL.items():
         d = tmp_path_factory.mktemp(f"clutter_{protocol}")
-        env = {"PATH": f"{EXE.parent}:/usr/bin:/bin", "HOME": str(d), "LANG": "C.UTF-8"}
+        env = clean_env(d)  # (with PYTHONPATH when a source checkout is under test)
         args = [str(EXE), "--log-level", "WARNING", "bench", "clutter", "--protocol", protocol,
                 "--rounds", "1", "--seed", "5", "--workers", "1", "--json", "b.json", "--out", "out",
                 "--no-progress", *extra]
@@ -110,17 +114,19 @@ def test_aggregate_pools_rounds_and_averages_seeds():
     rows = [_round(0, 1, 3, [(True, None), (True, None), (True, None)]),
             _round(1, 2, 4, [(True, None), (False, "CLOSE"), (False, "PRE_GRASP")])]
     res = cb.aggregate(rows, "packed", "builtin", [1, 2], workers=2, wall_time_s=120.0)
-    assert (res["attempts"], res["successes"], res["objects_placed"]) == (6, 4, 7)
-    assert res["gsr"] == round(4 / 6, 4) and res["dr"] == round(4 / 7, 4)
-    assert [s["gsr"] for s in res["seeds"]] == [1.0, round(1 / 3, 4)]
-    assert math.isclose(res["mean"]["gsr"], (1.0 + 1 / 3) / 2, abs_tol=1e-4)
-    assert math.isclose(res["std"]["gsr"], (1.0 - 1 / 3) / 2, abs_tol=1e-4)
-    assert res["failures_by_stage"] == {"PRE_GRASP": {"count": 1, "reasons": {"r": 1}},
-                                        "CLOSE": {"count": 1, "reasons": {"r": 1}}}
-    assert res["attempts_executed"] == 5 and res["gsr_executed"] == 0.8  # PRE_GRASP never moved
-    assert res["success_by_object"]["mug"] == {"placed": 7, "attempts": 6, "picked": 4,
-                                               "success_rate": round(4 / 6, 4)}
-    assert res["rounds_per_hour"] == 60.0
+    assert (res.attempts, res.successes, res.objects_placed) == (6, 4, 7)
+    assert res.gsr == round(4 / 6, 4) and res.dr == round(4 / 7, 4)
+    assert [s.gsr for s in res.seeds] == [1.0, round(1 / 3, 4)]
+    assert math.isclose(res.mean.gsr, (1.0 + 1 / 3) / 2, abs_tol=1e-4)
+    assert math.isclose(res.std.gsr, (1.0 - 1 / 3) / 2, abs_tol=1e-4)
+    assert res.mean.dr == 0.625 and isinstance(res.mean, RatePair)
+    assert res.failures_by_stage == {"PRE_GRASP": StageFailures(1, {"r": 1}), "CLOSE": StageFailures(1, {"r": 1})}
+    assert res.attempts_executed == 5 and res.gsr_executed == 0.8  # PRE_GRASP never moved
+    assert res.success_by_object["mug"] == ObjectSuccess(placed=7, attempts=6, picked=4,
+                                                         success_rate=round(4 / 6, 4))
+    assert res.rounds_per_hour == 60.0
+    keys = list(to_jsonable(res))  # the results file's key order: the round rows last
+    assert keys[:4] == ["benchmark", "protocol", "objects", "seed_list"] and keys[-1] == "round_rows"
 
 
 def test_aggregate_rates_the_picks_against_each_geometric_bound(tmp_path):
@@ -137,13 +143,13 @@ def test_aggregate_rates_the_picks_against_each_geometric_bound(tmp_path):
         {"name": "o0", "label": "none", "label_width_only": "any_side", "outcome": "picked"},
         {"name": "o1", "label": "any_side", "label_width_only": "any_side", "outcome": "not_seen"}]
     res = cb.aggregate(rows + [_round(2, 1, 1, [])], "pile", "builtin", [1], workers=1, wall_time_s=60.0)
-    b = res["grasp_bound"]  # (the third round has no object rows: counted nowhere)
-    assert b["objects"] == 5 and b["picked"] == 2 == res["successes"]
+    b = res.grasp_bound  # (the third round has no object rows: counted nowhere)
+    assert b["objects"] == 5 and b["picked"] == 2 == res.successes
     assert (b["dr_top_down"], b["dr_tilted"], b["dr_any_side"]) == (0.5, round(1 / 3, 4), 0.25)
     assert b["dr_width_only"]["any_side"] == 0.4 and b["picked_outside_bound"] == 1
     assert b["never_proposed_reasons"] == {"grasp source 'geometric' proposed no grasp": 1}
-    assert res["dr"] == round(2 / 6, 4)  # the existing figures unchanged
-    text = write_summary({**res, "out_dir": str(tmp_path)}, tmp_path / "summary.md").read_text()
+    assert res.dr == round(2 / 6, 4)  # the existing figures unchanged
+    text = write_summary({**to_jsonable(res), "out_dir": str(tmp_path)}, tmp_path / "summary.md").read_text()
     assert "## Gap to geometry" in text and "| top_down (from straight above) | 2 (40.0 %) | 50.0 % |" in text
     assert "| none | 1 | 0 | 0 | 0 | 0 | 0 | 0 | 0 | 1 |" in text
 

@@ -2,7 +2,8 @@
 (the full runs are benchmarks, not tests)."""
 
 from grasp_pipeline.bench.frames_bench import compare_outcomes, object_outcomes
-from grasp_pipeline.bench.grasp_bench import _real_time_factors, strip_timings
+from grasp_pipeline.bench.grasp_aggregate import real_time_factors
+from grasp_pipeline.bench.grasp_result import RealTimeFactors, strip_timings
 
 
 def _result(picked_b: bool, stage_b=None):
@@ -34,8 +35,8 @@ def test_real_time_factors_are_ratios_of_sums():
     records = [{"timings": {"wall_s": 10.0, "run_sim_s": 100.0, "picks_s": 5.0, "picks_sim_s": 80.0}},
                {"timings": {"wall_s": 30.0, "run_sim_s": 100.0, "picks_s": 15.0, "picks_sim_s": 80.0}},
                {"timings": {"wall_s": 3.0}}]  # a scene that raised: no simulated time
-    assert _real_time_factors(records) == {"run": 5.0, "pick_loop": 8.0}
-    assert _real_time_factors([]) == {"run": None, "pick_loop": None}
+    assert real_time_factors(records) == RealTimeFactors(run=5.0, pick_loop=8.0)
+    assert real_time_factors([]) == RealTimeFactors(run=None, pick_loop=None)
 
 
 def test_real_time_factors_are_timings_for_the_determinism_checks():

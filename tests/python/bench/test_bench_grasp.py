@@ -11,7 +11,10 @@ import math
 import pytest
 
 from grasp_pipeline.bench import grasp_bench as gb
+from grasp_pipeline.bench.grasp_aggregate import aggregate
+from grasp_pipeline.bench.seeds import scene_seed
 from grasp_pipeline.cli import main
+from grasp_pipeline.report.serialize import to_jsonable
 from grasp_pipeline.sim.scenes import random_scene
 
 SEED = 142
@@ -36,7 +39,7 @@ def _walk_numbers(x):
 
 
 def test_the_chosen_scenes_are_small():
-    sizes = [len(random_scene(gb.scene_seed(SEED, i)).objects) for i in range(SCENES)]
+    sizes = [len(random_scene(scene_seed(SEED, i)).objects) for i in range(SCENES)]
     assert max(sizes) <= 2, sizes
 
 
@@ -79,7 +82,7 @@ def test_scene_rows_are_sorted_seeded_and_every_failure_has_a_stage(bench):
     res, _out = bench
     rows = res["scene_rows"]
     assert [r["index"] for r in rows] == list(range(SCENES))
-    assert [r["seed"] for r in rows] == [gb.scene_seed(SEED, i) for i in range(SCENES)]
+    assert [r["seed"] for r in rows] == [scene_seed(SEED, i) for i in range(SCENES)]
     assert sum(r["objects"] for r in rows) == res["objects"]
     for r in rows:
         assert {"seed", "objects", "picks", "errors"} <= set(r)
@@ -104,22 +107,26 @@ def test_plots_and_summary_are_written(bench):
 def test_a_scene_that_raises_is_a_failed_scene_not_a_crash(tmp_path):
     rec = gb.run_scene(0, -1, tmp_path)  # a negative seed: the scene generator raises
     assert rec["error"] and rec["error"].startswith("ValueError")
-    res = gb.aggregate([rec], seed=0, workers=1, wall_time_s=1.0)
-    assert res["scenes"] == 1 and res["scenes_failed"] == 1 and res["scene_rows"][0]["errors"]
-    assert res["success_rate"] is None  # (no objects known: no rate, not NaN)
-
-
-def test_failure_reasons_are_short_categories():
-    assert gb.reason_category("CLOSE failed: fingers stalled at 12.5 mm but touch no object") == \
-        "fingers stalled at N mm but touch no object"
-    assert gb.reason_category("PRE_GRASP failed: no grasp candidate can be reached: IK x | y") == \
-        "no grasp candidate can be reached"
-    assert gb.exception_category("RuntimeError: boom 3") == "RuntimeError"
+    res = aggregate([rec], seed=0, workers=1, wall_time_s=1.0)
+    assert res.scenes == 1 and res.scenes_failed == 1 and res.scene_rows[0].errors
+    assert res.success_rate is None  # (no objects known: no rate, not NaN)
 
 
 def test_objects_of_a_scene_that_raised_fail_at_stage_scene():
-    seed = gb.scene_seed(SEED, 0)
+    seed = scene_seed(SEED, 0)
     rec = gb.scene_record(0, seed, gb._spec_objects(seed), None, error="RuntimeError: boom 3", wall_s=2.0)
-    res = gb.aggregate([rec], seed=SEED, workers=1, wall_time_s=2.0)
-    assert res["objects"] >= 1 and res["success_rate"] == 0.0
-    assert res["failures_by_stage"]["SCENE"]["reasons"] == {"RuntimeError": res["objects"]}
+    res = aggregate([rec], seed=SEED, workers=1, wall_time_s=2.0)
+    assert res.objects >= 1 and res.success_rate == 0.0
+    assert res.failures_by_stage["SCENE"].reasons == {"RuntimeError": res.objects}
+    assert res.targets["pick success"].value == 0.0 and res.targets["pick success"].met is False
+
+
+def test_the_result_json_keeps_the_files_key_order():
+    """The typed result writes the keys the results files have always had, in their order: the
+    figures first, the run's facts, then the long per-scene rows last."""
+    seed = scene_seed(SEED, 0)
+    rec = gb.scene_record(0, seed, gb._spec_objects(seed), None, error="RuntimeError: boom 3", wall_s=2.0)
+    keys = list(to_jsonable(aggregate([rec], seed=SEED, workers=1, wall_time_s=2.0)))
+    assert keys[:5] == ["benchmark", "seed", "scene_seed_rule", "scenes", "scenes_failed"]
+    assert keys[-4:] == ["scenes_finished", "warnings", "summary", "scene_rows"]  # (no plots yet)
+    assert "interrupted_while" not in keys and keys.index("targets") == keys.index("workers") + 1

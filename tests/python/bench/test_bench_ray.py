@@ -9,16 +9,16 @@ import subprocess
 import sys
 from pathlib import Path
 
-from grasp_pipeline.bench.grasp_bench import strip_timings
-from grasp_pipeline.bench.workers_bench import _differences
+from grasp_pipeline.bench.grasp_result import differences, strip_timings
 
-EXE = Path(sys.executable).parent / "grasp-pipeline"
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from faults import EXE, clean_env  # noqa: E402
 SEED, SCENES = 142, 2          # two one-object scenes (see test_bench_grasp)
 RUN_DEPENDENT = ("backend", "plots", "summary", "workers_requested")
 
 
 def _bench(backend: str, d: Path) -> dict:
-    env = {"PATH": f"{EXE.parent}:/usr/bin:/bin", "HOME": str(d), "LANG": "C.UTF-8"}
+    env = clean_env(d)  # (with PYTHONPATH when a source checkout is under test)
     res = subprocess.run([str(EXE), "--log-level", "WARNING", "bench", "grasp", "--scenes", str(SCENES),
                           "--seed", str(SEED), "--workers", "2", "--backend", backend,
                           "--json", "b.json", "--out", "out", "--no-progress"],
@@ -37,4 +37,4 @@ def test_ray_backend_gives_the_local_result(tmp_path):
     assert ray["backend"] == "ray" and local["backend"] == "local"
     assert ray["scenes"] == SCENES and ray["scenes_failed"] == 0
     same = lambda r: strip_timings({k: v for k, v in r.items() if k not in RUN_DEPENDENT})  # noqa: E731
-    assert _differences(same(local), same(ray)) == []
+    assert differences(same(local), same(ray)) == []

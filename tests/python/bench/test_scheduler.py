@@ -7,7 +7,8 @@ from pathlib import Path
 
 import pytest
 
-from grasp_pipeline.bench.scheduler import JobSpec, run_jobs
+from grasp_pipeline.bench.jobs import JobSpec
+from grasp_pipeline.bench.scheduler import run_jobs
 
 import jobs_for_tests as jobs  # (this folder is on sys.path: no package)
 

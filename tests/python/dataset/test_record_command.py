@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from grasp_pipeline.bench.grasp_bench import scene_seed
+from grasp_pipeline.bench.seeds import scene_seed
 from recorded import EPISODES, IMAGE_PX, ONE_OBJECT, SEED, record
 
 

@@ -8,7 +8,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import pytest
 
-from grasp_pipeline.report.serialize import OutputError, check_writable, dumps, to_jsonable, write_json
+from grasp_pipeline.report.serialize import (OMIT_IF_NONE, OutputError, check_writable, dumps, to_jsonable,
+                                             write_json)
 from grasp_pipeline.results import PickResult, RunReport, ScanReport, TrackSummary
 
 
@@ -30,6 +31,20 @@ def test_typed_results_serialize_with_their_field_names():
     data = to_jsonable(report)
     assert data["picks"][0]["anchor"] == [0.5, 0.0] and data["status"] == "running"
     assert data["scan"]["tracks"][0]["quality"] == "NADIR"
+
+
+@dataclass(frozen=True)
+class _Result:
+    status: str
+    interrupted_while: str | None = field(default=None, metadata=OMIT_IF_NONE)
+    summary: str | None = None
+    _private: int = 0
+
+
+def test_a_field_marked_omit_if_none_is_left_out_while_none():
+    assert to_jsonable(_Result("complete")) == {"status": "complete", "summary": None}
+    assert list(to_jsonable(_Result("interrupted", "simulating", "s.md"))) == \
+        ["status", "interrupted_while", "summary"]
 
 
 def test_write_json_replaces_a_file_atomically(tmp_path):

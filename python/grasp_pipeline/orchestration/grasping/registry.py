@@ -3,16 +3,18 @@
 Each name maps to a factory ``(settings) -> GraspSource`` (``settings``: the run's
 :class:`~grasp_pipeline.settings.Settings`); a factory imports its source only when called, so
 naming the sources costs no import. A new source is one new module with a class implementing
-:class:`~.source.GraspSource`, plus its line in ``_FACTORIES`` below — or, from code outside the
-package, :func:`register_grasp_source` before the settings are loaded (they check the name).
+:class:`~.source.GraspSource`, plus its name in :data:`.source_names.BUILT_IN` and its line in
+``_FACTORIES`` below — or, from code outside the package, :func:`register_grasp_source` before
+the settings are loaded (they check the name against :mod:`.source_names`, which the parameter
+sets import instead of this module: the sources import the parameter sets).
 """
 
 from __future__ import annotations
 
-import re
 from typing import TYPE_CHECKING, Callable
 
 from ...exceptions import ConfigError
+from .source_names import add_grasp_source_name, grasp_source_names
 
 if TYPE_CHECKING:
     from ...settings import Settings
@@ -33,25 +35,19 @@ def _top_down(settings: "Settings") -> "GraspSource":
     return GeometricGraspSource(settings.grasp, fit=settings.grasp_fit, motion=settings.motion)
 
 
-#: name -> factory; the first is the default of ``grasp.grasp_source``
+#: name -> factory, the built-in ones in the order of :data:`.source_names.BUILT_IN`
 _FACTORIES: dict[str, GraspSourceFactory] = {
-    "any_side": _any_side,   # grasps from any side within the sampler's tilt limit
-    "top_down": _top_down,   # method.md §3's top-down grasp, fitted to the perceived points
+    "any_side": _any_side,
+    "top_down": _top_down,
 }
 
-
-def grasp_source_names() -> tuple[str, ...]:
-    """The names ``grasp.grasp_source`` may take."""
-    return tuple(_FACTORIES)
+__all__ = ["grasp_source_names", "make_grasp_source", "register_grasp_source"]
 
 
 def register_grasp_source(name: str, factory: GraspSourceFactory) -> None:
     """Make ``grasp.grasp_source: <name>`` build a source with ``factory(settings)``.
     Raises ValueError for a name that is not a lower-case identifier or is taken."""
-    if not re.fullmatch(r"[a-z][a-z0-9_]*", name):
-        raise ValueError(f"grasp source name {name!r}: use lower-case letters, digits and '_'")
-    if name in _FACTORIES:
-        raise ValueError(f"grasp source {name!r} is already registered; choose another name")
+    add_grasp_source_name(name)
     _FACTORIES[name] = factory
 
 

@@ -5,7 +5,7 @@ import pytest
 
 from grasp_pipeline.exceptions import ConfigError
 from grasp_pipeline.orchestration import FixedGraspSource, GeometricGraspSource, GraspSource
-from grasp_pipeline.orchestration.grasping import registry
+from grasp_pipeline.orchestration.grasping import registry, source_names
 from grasp_pipeline.orchestration.grasping.any_side import AnySideGraspSource
 from grasp_pipeline.settings import SECTIONS, load_settings
 
@@ -15,7 +15,8 @@ def _settings(*sets: str):
 
 
 def test_the_built_in_sources_are_selected_by_name():
-    assert registry.grasp_source_names() == ("any_side", "top_down")
+    assert registry.grasp_source_names() == ("any_side", "top_down") == source_names.BUILT_IN
+    assert tuple(registry._FACTORIES) == source_names.BUILT_IN  # each built-in name has its factory
     assert isinstance(registry.make_grasp_source(_settings()), AnySideGraspSource)  # the default
     source = registry.make_grasp_source(_settings("grasp.grasp_source=top_down"))
     assert isinstance(source, GeometricGraspSource) and isinstance(source, GraspSource)
@@ -23,6 +24,7 @@ def test_the_built_in_sources_are_selected_by_name():
 
 def test_a_registered_source_can_be_named_in_the_settings(monkeypatch):
     monkeypatch.setattr(registry, "_FACTORIES", dict(registry._FACTORIES))
+    monkeypatch.setattr(source_names, "_added", [])
     registry.register_grasp_source("known_poses", lambda settings: FixedGraspSource([]))
     source = registry.make_grasp_source(_settings("grasp.grasp_source=known_poses"))
     assert isinstance(source, FixedGraspSource)
