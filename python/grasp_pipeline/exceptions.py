@@ -15,3 +15,13 @@ class ConfigError(GraspPipelineError, ValueError):
 
 class InputError(GraspPipelineError, ValueError):
     """User-supplied data (a point cloud, a pose, a file) cannot be used as given."""
+
+
+class RobotAdapterError(GraspPipelineError, ValueError):
+    """A robot adapter breaks the contract of the robot protocols (``robot/protocols.py``):
+    a member is missing or what it delivers cannot be used (docs/real_robot.md)."""
+
+
+class CameraFrameError(RobotAdapterError):
+    """A camera frame breaks the frame contract (``robot/frame_contract.py``): depth not in
+    metres, intrinsics or camera pose missing or malformed, images that disagree in shape."""

@@ -139,6 +139,30 @@ def test_motion_perception_orchestration_never_import_the_simulator():
     assert offenders == []
 
 
+#: The run loop on any robot and its parts: never the simulator, nor its ground truth, not even
+#: through what they import (the simulated composition root, app.sim_system, builds on them).
+GENERIC_APP = ("grasp_pipeline.app.run_loop", "grasp_pipeline.app.robot_system",
+               "grasp_pipeline.app.robot_run", "grasp_pipeline.app.work_cell_file")
+SIM_APP = ("grasp_pipeline.app.sim_system", "grasp_pipeline.app.run", "grasp_pipeline.app.run_command")
+
+
+def test_the_run_loop_on_any_robot_never_reaches_the_simulator():
+    mods = _modules()
+    seen, todo, offenders = set(), list(GENERIC_APP), []
+    while todo:
+        name = todo.pop()
+        if name in seen:
+            continue
+        seen.add(name)
+        for dep in _imports(name, mods[name], top_level_only=False):
+            if dep.startswith(("grasp_pipeline.sim", "grasp_pipeline.evaluation", "grasp_pipeline.bench")) \
+                    or dep in SIM_APP:
+                offenders.append(f"{name} imports {dep}")
+            todo.append(dep)
+    assert all(m in mods for m in GENERIC_APP)
+    assert offenders == []
+
+
 def test_ground_truth_is_read_only_by_evaluation_code():
     allowed = ("grasp_pipeline.evaluation", "grasp_pipeline.bench", "grasp_pipeline.sim")
     offenders = [f"{n} imports it" for n in _modules()

@@ -1,27 +1,23 @@
-"""The composition root of a simulated run: a ``SimWorld`` wired to the pipeline's parts."""
+"""The composition root of a simulated run: a ``SimWorld`` wired to the pipeline's parts.
+
+The wiring is the generic one of :mod:`.robot_system` (any robot); the simulator adds what only
+it has: the work cell read from its model (``config/work_cell.yaml`` holds the same values) and
+the ground truth that scores a run (:meth:`System.attach_evaluation`, ``score_tracks``)."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Optional
-
-import numpy as np
 
 from ..exceptions import InputError
-from ..motion.motion_planner import MotionPlanner
-from ..motion.work_cell import WorkCell
-from ..orchestration import (ActiveScan, EventBus, GraspAction, MotionClient, PerceptionLoop,
-                             Runtime)
-from ..orchestration.grasping.opening import max_grasp_width_m
-from ..orchestration.scanning.side_view import SideView
-from ..perception import PerceptionSession
-from ..perception.scene_volume import SceneVolume
+from ..orchestration import EventBus
 from ..robot.description import flange_T_camera
 from ..settings import Settings
 from ..sim.scene_spec import SceneSpec
 from ..sim.scenes import random_scene, reference_scene
 from ..sim.world import SimWorld
+from .robot_system import RobotSystem, wire
+from .work_cell_file import WorkCellSetup
 
 #: The parameter sets a simulated run uses.
 SECTIONS = ("scene_filter", "obb", "camera", "depth_noise", "sim", "clutter", "motion", "scan", "grasp", "place",
@@ -29,21 +25,23 @@ SECTIONS = ("scene_filter", "obb", "camera", "depth_noise", "sim", "clutter", "m
 
 
 @dataclass
-class System:
-    """Every running part of one headless session."""
+class System(RobotSystem):
+    """Every running part of one headless simulated session; :attr:`world` is the robot."""
 
-    world: SimWorld
-    loop: PerceptionLoop
-    rt: Runtime
-    motion: MotionClient
-    scanner: ActiveScan
-    action: GraspAction
-    cell: WorkCell
-    start_q: np.ndarray
-    events: EventBus = field(default_factory=EventBus)
-    side_view: Optional[SideView] = None
+    @property
+    def world(self) -> SimWorld:
+        """The simulated world (the robot of this system)."""
+        return self.robot
+
+    def attach_evaluation(self) -> None:
+        """Subscribe the ground-truth evaluation of each pick (:class:`~grasp_pipeline.evaluation.
+        pick_evaluator.PickEvaluator`) to the events."""
+        from ..evaluation.pick_evaluator import PickEvaluator
+
+        PickEvaluator(self.world).attach(self.events)
 
     def close(self) -> None:
+        super().close()
         self.world.close()
 
 
@@ -73,31 +71,26 @@ def make_scene(scene, seed: int, settings: Settings, objects="builtin"):
     raise InputError(f"scene must be one of {', '.join(SCENES)}, got {scene!r}")
 
 
+def sim_work_cell(world) -> WorkCellSetup:
+    """The work cell as the simulated model has it: table, tray boxes, tray centre and the
+    camera mount (``config/work_cell.yaml`` holds the same values, a test checks it)."""
+    return WorkCellSetup(world.work_cell, flange_T_camera(world.model), source="the simulated model")
+
+
 def build_system(spec, settings: Settings, events: EventBus | None = None, robot=None) -> System:
     """World + camera → perception loop; motion client; scan; grasp action (not started).
     ``robot``: build on this robot (the protocols of ``robot/protocols.py`` plus ``model``,
     ``work_cell`` and ``close()``, e.g. a learning environment's adapter) instead of a new
-    ``SimWorld`` of ``spec``."""
-    events = events if events is not None else EventBus()
+    ``SimWorld`` of ``spec``; only a new ``SimWorld`` scores views (``score_tracks``)."""
     world = robot if robot is not None else SimWorld(spec, settings.sim, settings.camera,
                                                      depth_noise=settings.depth_noise)
     try:
-        session = PerceptionSession(settings.scene_filter, settings.obb, depth_noise=settings.depth_noise)
-        loop = PerceptionLoop(session, settings.scan, ready_camera_pose=world.camera_pose(),
-                              events=events, camera=world, fit_config=settings.grasp_fit,
-                              volume=SceneVolume(settings.volume))
-        world.add_frame_listener(lambda f: loop.on_frame(f, world.q))
-        rt = Runtime(world, events)
-        cell = world.work_cell
-        motion = MotionClient(world, MotionPlanner(settings.motion), cell.fixtures, events)
-        start_q = np.asarray(world.q, float).copy()
-        scanner = ActiveScan(rt, loop, motion, flange_T_camera(world.model), settings.scan,
-                             max_width_m=max_grasp_width_m(settings.grasp_fit))
-        action = GraspAction(rt, loop, motion, settings.grasp, work_cell=cell, home_q=start_q,
-                             events=events, place_config=settings.place)
-        side_view = SideView(rt, loop, motion, flange_T_camera(world.model), settings.volume,
-                             settings.scan) if settings.volume.side_view else None
+        system = wire(world, sim_work_cell(world), settings, events, System)
     except BaseException:
         world.close()
         raise
-    return System(world, loop, rt, motion, scanner, action, cell, start_q, events, side_view)
+    if robot is None:
+        from ..evaluation import scoring
+
+        system.score_tracks = lambda tracks: scoring.score_estimates(world, tracks, settings.obb.width_tol_m)
+    return system

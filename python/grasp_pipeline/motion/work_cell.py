@@ -4,7 +4,8 @@ picked from, the fixtures (the tray) they are placed into, and where the tray is
 Geometry fixed at installation (a work-cell description), never an object's pose. The motion
 layer plans around ``fixtures``; the orchestration decides from ``table`` and ``fixtures``
 which perceived tracks are objects *to pick*. ``grasp_pipeline.sim.work_cell`` reads one
-from the simulated model; a real cell would load it from its set-up file.
+from the simulated model; a real cell loads it from its work-cell file
+(``grasp_pipeline.app.work_cell_file``; ``config/work_cell.yaml`` is the simulated cell's).
 """
 
 from __future__ import annotations

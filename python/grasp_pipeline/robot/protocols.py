@@ -2,8 +2,9 @@
 
 Perception, motion and orchestration talk to the robot only through these (structural
 typing: any object with these members qualifies). ``grasp_pipeline.sim.world.SimWorld``
-implements all of them for the simulated Panda; a real robot driver would implement the same
-members and nothing above them changes. Tests drive the grasp action with small fakes.
+implements all of them for the simulated Panda; the adapter of a real robot implements the same
+members and runs with ``grasp_pipeline.app.run_robot`` — nothing above them changes
+(docs/real_robot.md, ``examples/own_robot``). Tests drive the grasp action with small fakes.
 
 Units: joints in rad (rad/s), lengths in m, forces in N, times in s.
 """
@@ -130,3 +131,10 @@ class ContactMonitor(Protocol):
 @runtime_checkable
 class Robot(Clock, Arm, Gripper, Camera, ContactMonitor, Protocol):
     """Everything at once (``SimWorld`` is one)."""
+
+
+def missing_members(robot: object, protocol: type = Robot) -> list[str]:
+    """The members of ``protocol`` (default: all of :class:`Robot`) that ``robot`` lacks."""
+    names = sorted({n for cls in protocol.__mro__ if getattr(cls, "_is_protocol", False)
+                    and cls is not Protocol for n in vars(cls) if not n.startswith("_")})
+    return [n for n in names if not hasattr(robot, n)]
