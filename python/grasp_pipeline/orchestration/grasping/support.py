@@ -121,14 +121,9 @@ def judge_graspable(track, cloud: Optional[SceneCloud], config: GraspFitConfig) 
     notes = list(e.notes)
     if e.grasp_ok:
         return True, []
-    if e.resting or not (e.height_ok and e.width_ok) or cloud is None:
+    if e.resting or not (e.height_ok and e.width_ok):
         return False, notes
-    verdict = support_verdict(int(track.tid), cloud, config)
-    if verdict is None:
-        return False, notes
-    if verdict.supported:
-        return True, []
-    return False, [verdict.why] + [n for n in notes if not n.startswith(FLOATING_PREFIX)]
+    return _by_support(track, cloud, config, notes)
 
 
 WIDTH_NOTE_PREFIX = "width not graspable"
@@ -144,9 +139,14 @@ def judge_any_side(track, cloud: Optional[SceneCloud], config: GraspFitConfig) -
         return False, notes
     if e.resting:
         return True, []
-    if cloud is None:
-        return False, notes
-    verdict = support_verdict(int(track.tid), cloud, config)
+    return _by_support(track, cloud, config, notes)
+
+
+def _by_support(track, cloud: Optional[SceneCloud], config: GraspFitConfig,
+                notes: list[str]) -> tuple[bool, list[str]]:
+    """The support rule's verdict on a track the resting guard refused (no cloud or no verdict:
+    refused with ``notes``; refused by the rule: its reason first, the floating notes dropped)."""
+    verdict = None if cloud is None else support_verdict(int(track.tid), cloud, config)
     if verdict is None:
         return False, notes
     if verdict.supported:
