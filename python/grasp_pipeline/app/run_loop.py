@@ -19,6 +19,7 @@ from typing import Callable, Optional, Sequence
 
 import numpy as np
 
+from .. import signals
 from ..exceptions import GraspPipelineError
 from ..orchestration import GraspSource, PickContext, StageEvent, default_targets, pick_object
 from ..orchestration.declutter import clear_table
@@ -78,26 +79,40 @@ def drive(system: RobotSystem, settings: Settings, report: RunReport, options: R
     """``attach()`` the recorders, run the stages, set the report's status; on Ctrl-C / SIGTERM
     or an error the arm holds. The recorders and the system are closed and the report written
     (to ``json_path`` unless None) in every case; a bug's traceback is raised after that."""
-    recorders = None
+    recorders, mark = None, signals.received()
     try:
         recorders = attach()
         _stages(system, settings, report, recorders.snapshots, options,
                 options.grasp_source or default_grasp_source(settings))
         report.status = STATUS_FAILED if report.error else STATUS_COMPLETE
     except KeyboardInterrupt:
-        system.robot.hold()
-        report.status, report.error = STATUS_INTERRUPTED, "interrupted (SIGINT/SIGTERM); the arm holds"
-        log.error("run interrupted: the arm holds; writing the report of what was done")
-    except GraspPipelineError as exc:
-        system.robot.hold()
-        report.status, report.error = STATUS_FAILED, f"{type(exc).__name__}: {exc}"
-        log.error("run failed: %s", exc)
-    except Exception as exc:  # a bug: the report says so, then the traceback is shown
-        system.robot.hold()
-        report.status, report.error = STATUS_FAILED, f"internal error {type(exc).__name__}: {exc}"
-        raise
+        _interrupted(system, report)
+    except Exception as exc:
+        if signals.received() != mark:  # Ctrl-C a library turned into an error: still Ctrl-C
+            _interrupted(system, report)
+        elif _failed(system, report, exc):
+            raise
     finally:
         _finish(system, report, recorders, wall0, json_path)
+
+
+def _interrupted(system: RobotSystem, report: RunReport) -> None:
+    system.robot.hold()
+    report.status, report.error = STATUS_INTERRUPTED, "interrupted (SIGINT/SIGTERM); the arm holds"
+    log.error("run interrupted: the arm holds; writing the report of what was done")
+
+
+def _failed(system: RobotSystem, report: RunReport, exc: Exception) -> bool:
+    """The arm holds and the report says why; True when ``exc`` is a bug (to be raised again
+    after the report is written), False for a known failure."""
+    system.robot.hold()
+    report.status = STATUS_FAILED
+    if isinstance(exc, GraspPipelineError):
+        report.error = f"{type(exc).__name__}: {exc}"
+        log.error("run failed: %s", exc)
+        return False
+    report.error = f"internal error {type(exc).__name__}: {exc}"
+    return True
 
 
 def _view(system: RobotSystem, settings: Settings, snapshots, stage: str) -> ViewReport:

@@ -28,6 +28,7 @@ import time
 from contextlib import contextmanager
 from typing import Optional
 
+from ..signals import interrupts_raise
 from .jobs import JobSpec, add_process_cpu, worker_env
 
 log = logging.getLogger(__name__)
@@ -60,7 +61,8 @@ def _child_main(conn, run_fn, task: tuple, log_level: int, tag: str) -> None:
 
     setup_logging(log_level, tag=f"[{tag} {task[0]}] ")
     try:
-        rec = run_fn(task)
+        with interrupts_raise():  # counted, so an interrupt a library turns into an error stays one
+            rec = run_fn(task)
     except BaseException as exc:  # (run_fn should catch Exception; this is e.g. SystemExit)
         rec = {"index": task[0], "error": f"{type(exc).__name__}: {exc}", "crashed": True}
     add_process_cpu(rec)

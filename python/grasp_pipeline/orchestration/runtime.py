@@ -23,6 +23,7 @@ from contextlib import contextmanager, nullcontext
 from dataclasses import dataclass, field
 from typing import Any, Callable, ContextManager, Generator, Iterator, Optional
 
+from .. import signals
 from .events import EventBus, Tick
 
 log = logging.getLogger("grasp_pipeline.runtime")
@@ -58,11 +59,14 @@ class Runtime:
     def step(self) -> None:
         t_before = self.world.time_s
         for task in list(self.tasks):
+            mark = signals.received()
             try:
                 next(task.gen)
             except StopIteration as stop:
                 task.done, task.result = True, stop.value
             except Exception as exc:  # a task failure must not kill the runtime
+                # Ctrl-C inside a C extension's import can come out as ImportError: still Ctrl-C
+                signals.raise_if_received_since(mark, f"task {task.name} ran")
                 log.exception("task %s failed", task.name)
                 task.done, task.error = True, exc
             if task.done:
