@@ -105,7 +105,9 @@ def cloud_from_frame(result, plane, band_m: float, voxel_m: float) -> SceneCloud
     env = np.asarray(result.environment_mask)
     owner[env] = ENVIRONMENT
     keep = np.flatnonzero(obj | env)  # converted to float, tested finite: only these rows
-    pts = np.asarray(np.asarray(result.points).reshape(-1, 3)[keep], dtype=float)
+    pts = np.take(np.asarray(result.points).reshape(-1, 3), keep, axis=0).astype(float, copy=False)
     finite = np.isfinite(pts[:, 0]) & np.isfinite(pts[:, 1]) & np.isfinite(pts[:, 2])
-    p, o = voxel_thin(pts[finite], owner[keep[finite]], voxel_m)
+    if not finite.all():
+        pts, keep = pts[finite], keep[finite]
+    p, o = voxel_thin(pts, owner[keep], voxel_m)
     return SceneCloud(p, o, np.asarray(plane.n, dtype=float), float(plane.c), float(band_m))
