@@ -10,6 +10,7 @@ import pytest
 
 from grasp_pipeline.exceptions import ConfigError
 from grasp_pipeline.robot import description as rm
+from grasp_pipeline.sim.camera import DepthCamera, _select_f32
 from grasp_pipeline.sim.config import load_camera_config
 from grasp_pipeline.sim.ground_truth import object_truths
 from grasp_pipeline.sim.ik import solve_ik
@@ -179,3 +180,59 @@ def test_without_gl_frames_are_ray_cast_and_logged():
                          timeout=120, check=True).stdout
     assert "depth camera backend: raycast" in out
     assert "FRAME raycast (3072, 3) float32" in out
+
+
+def test_select_f32_is_np_where_bit_for_bit():
+    rng = np.random.default_rng(0)
+    b = rng.normal(size=(40, 30)).astype(np.float32)
+    b[rng.random(b.shape) < 0.2] = np.nan
+    b[0, :3] = [np.inf, -np.inf, -0.0]
+    a = rng.normal(size=(40, 31)).astype(np.float32)[:, 1:]  # a strided view
+    cond = rng.random(b.shape) < 0.5
+    for x in (a, np.float32(np.nan), np.float32(-0.0)):
+        assert _select_f32(cond, x, b).tobytes() == np.where(cond, x, b).tobytes()
+
+
+def _reference_frame(cam, z, T):
+    """A frame's depth and points from clean depth ``z`` as the camera computes them, written
+    plainly (np.where, one expression each)."""
+    cfg, noise = cam.config, cam.depth_noise
+    invalid = ~((z >= cfg.min_range_m) & (z <= cfg.max_range_m))
+    z = np.where(invalid, np.float32(np.nan), z)
+    gu, gv = np.zeros_like(z), np.zeros_like(z)
+    with np.errstate(invalid="ignore", over="ignore"):
+        for g, d in ((gu[:, 1:-1], np.diff(z, axis=1).T), (gv[1:-1].T, np.diff(z, axis=0))):
+            g.T[...] = np.where(np.abs(d[1:]) <= np.abs(d[:-1]), d[1:], d[:-1])
+        gu, gv = gu * cam._fx, gv * cam._fy
+        nz = gu * cam._x + gv * cam._y + z
+        invalid |= z * z < (cam._cos_grazing**2) * (gu * gu + gv * gv + nz * nz) * cam._ray_norm2
+        sigma = np.float32(noise.depth_noise_sigma_m) * (
+            z / np.float32(noise.depth_noise_ref_range_m)) ** np.float32(noise.depth_noise_exponent)
+        z = z + sigma * cam._rng.standard_normal(z.shape, dtype=np.float32)
+    z[invalid] = np.nan
+    R = T[:3, :3].astype(np.float32)
+    pts = [z * (R[i, 0] * cam._x + R[i, 1] * cam._y + R[i, 2]) + np.float32(T[i, 3]) for i in range(3)]
+    return z, np.stack(pts, axis=-1).reshape(-1, 3)
+
+
+def test_frames_are_bit_identical_to_the_plain_computation(make_world):
+    """Two cameras of the same seed and clean depth (steps, slopes, NaN, out of range): the
+    capture's depth and points equal the plain computation's, frame after frame."""
+    world = make_world()
+    cam, T = world.camera, world.camera.pose()
+    ref = DepthCamera(world.model, world.data, cam.config, raycast_threads=1, depth_noise=cam.depth_noise)
+    rng = np.random.default_rng(1)
+    try:
+        for _ in range(3):
+            h, w = cam.config.height_px, cam.config.width_px
+            z = (0.3 + 0.2 * np.add.outer(np.arange(h) / h, (np.arange(w) / w) ** 2)).astype(np.float32)
+            z[rng.random(z.shape) < 0.05] += np.float32(0.05)  # steps: grazing pixels
+            z[rng.random(z.shape) < 0.02] = np.nan
+            z[rng.random(z.shape) < 0.02] = np.float32(5.0)
+            cam._clean_images = lambda T, z=z: (z.copy(), None, None)
+            frame = cam.capture()
+            depth, points = _reference_frame(ref, z, T)
+            assert frame.depth.tobytes() == depth.tobytes()
+            assert frame.points_world.tobytes() == points.tobytes()
+    finally:
+        ref.close()

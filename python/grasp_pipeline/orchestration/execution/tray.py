@@ -99,10 +99,43 @@ class TrayGrid:
         return int(n[0]), int(n[1])
 
     def index(self, xy: np.ndarray) -> np.ndarray:
-        """(N, 2) integer cell indices of world ``xy`` (N, 2) (may lie outside the grid)."""
+        """(N, 2) integer cell indices of world ``xy`` (N, 2) (may lie outside the grid).
+
+        The rotation into the floor's axes is written out per component: a BLAS
+        ``(N, 2) @ (2, 2)`` product costs several times more (its threads wait on each other
+        when the cores are busy) for the same sums.
+        """
         g = self.geometry
-        uv = (np.asarray(xy, float).reshape(-1, 2) - g.center_xy) @ g.axes + g.half_m
+        d = np.asarray(xy, float).reshape(-1, 2) - g.center_xy
+        uv = np.empty_like(d)
+        for j in range(2):
+            uv[:, j] = d[:, 0] * g.axes[0, j] + d[:, 1] * g.axes[1, j]
+        uv += g.half_m
         return np.floor(uv / self.cell_m).astype(np.int64)
+
+    def cells_of(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The finite ``points`` (N, 3) world that fall in a cell of the grid, in their order,
+        as float (M, 3), and their cell indices (M, 2).
+
+        A whole camera frame mostly lies outside the tray: a bounding test on world x/y (the
+        footprint's axis-aligned box, a cell wider on each side) drops those points before
+        the per-point work; the points it keeps are indexed as by :meth:`index`.
+        """
+        pts = np.asarray(points).reshape(-1, 3)
+        lo, hi = self._bounds_xy()
+        x, y = pts[:, 0], pts[:, 1]
+        near = (x >= lo[0]) & (x <= hi[0]) & (y >= lo[1]) & (y <= hi[1])  # NaN: False
+        near &= np.isfinite(pts[:, 2])  # x and y are, within the bounds
+        pts = np.asarray(pts[near], float)
+        ij = self.index(pts[:, :2])
+        ok = self.inside(ij)
+        return pts[ok], ij[ok]
+
+    def _bounds_xy(self) -> tuple[np.ndarray, np.ndarray]:
+        """World x/y box around every cell of the grid (with a cell's margin)."""
+        g = self.geometry
+        reach = np.abs(g.axes) @ g.half_m + self.cell_m
+        return g.center_xy - reach, g.center_xy + reach
 
     def centres(self) -> np.ndarray:
         """(nu, nv, 2) world xy of every cell's centre."""
@@ -119,12 +152,10 @@ class TrayGrid:
 
     def heights(self, points: np.ndarray) -> np.ndarray:
         """(nu, nv) the highest point of each cell above the floor [m], NaN where none."""
-        pts = np.asarray(points, float).reshape(-1, 3)
-        pts = pts[np.all(np.isfinite(pts), axis=1)]
+        pts, ij = self.cells_of(points)
         out = np.full(self.shape, -np.inf)
-        ij = self.index(pts[:, :2])
-        ok = self.inside(ij)
-        np.maximum.at(out, (ij[ok, 0], ij[ok, 1]), pts[ok, 2] - self.geometry.floor_z_m)
+        flat = ij[:, 0] * self.shape[1] + ij[:, 1]  # ufunc.at is much faster on one index
+        np.maximum.at(out.reshape(-1), flat, pts[:, 2] - self.geometry.floor_z_m)
         out[np.isinf(out)] = np.nan
         return out
 
@@ -223,11 +254,7 @@ class TrayContents:
     def update_from_look(self, points_world: np.ndarray) -> list[str]:
         """Replace what the look saw (see the module doc); returns the names that left."""
         grid = self.geometry.grid(self.cell_m)
-        pts = np.asarray(points_world, float).reshape(-1, 3)
-        pts = pts[np.all(np.isfinite(pts), axis=1)]
-        ij = grid.index(pts[:, :2])
-        keep = grid.inside(ij)
-        pts, ij = pts[keep], ij[keep]
+        pts, ij = grid.cells_of(points_world)
         on_wall = grid.dilate(grid.wall_mask(), self.cell_m)[ij[:, 0], ij[:, 1]]
         pts, ij = pts[~on_wall], ij[~on_wall]
         seen = np.zeros(grid.shape, dtype=bool)

@@ -50,17 +50,40 @@ class SceneCloud:
 
 
 def voxel_thin(points: np.ndarray, owner: np.ndarray, voxel_m: float) -> tuple[np.ndarray, np.ndarray]:
-    """One point (the first) per (voxel, owner) pair."""
+    """One point (the first) per (voxel, owner) pair, in the order of their (voxel index x,
+    y, z, owner)."""
     if len(points) == 0:
         return points, owner
     ii = np.floor(points / voxel_m).astype(np.int64)
-    ii -= ii.min(axis=0)
-    dims = ii.max(axis=0) + 1
+    # column by column: a reduction along axis 0 of an (N, 3) array is many times slower
+    ii -= np.array([ii[:, j].min() for j in range(3)])
+    dims = [int(ii[:, j].max()) + 1 for j in range(3)]
     key = (ii[:, 0] * dims[1] + ii[:, 1]) * dims[2] + ii[:, 2]
     own = owner.astype(np.int64) - int(owner.min())
-    key = key * (int(own.max()) + 1) + own
-    _, first = np.unique(key, return_index=True)
-    return points[first], owner[first]
+    n_own = int(own.max()) + 1
+    key = key * n_own + own
+    first = _first_of_each(key, dims[0] * dims[1] * dims[2] * n_own)
+    return np.take(points, first, axis=0), np.take(owner, first)
+
+
+def _first_of_each(key: np.ndarray, n_keys: int) -> np.ndarray:
+    """The position of the first occurrence of each distinct ``key`` (N,) (integers in
+    ``[0, n_keys)``), in increasing key order: ``np.unique(key, return_index=True)[1]``.
+
+    Key and position packed into one int64 are all distinct, so a plain sort (much faster
+    than the stable argsort ``np.unique`` needs) orders them by key, then position."""
+    n = len(key)
+    bits = max(1, (n - 1).bit_length())
+    if n_keys >= 1 << (62 - bits):  # they do not fit one int64
+        return np.unique(key, return_index=True)[1]
+    packed = key << bits
+    packed |= np.arange(n, dtype=np.int64)
+    packed.sort()
+    group = packed >> bits
+    first = np.empty(n, dtype=bool)
+    first[0] = True
+    np.not_equal(group[1:], group[:-1], out=first[1:])
+    return packed[first] & ((1 << bits) - 1)
 
 
 def cloud_from_frame(result, plane, band_m: float, voxel_m: float) -> SceneCloud:
@@ -68,7 +91,6 @@ def cloud_from_frame(result, plane, band_m: float, voxel_m: float) -> SceneCloud
     the locked ``_core.Plane``). Object points take the track id of their cluster's estimate;
     environment points are kept only once the scene filter emits them (method.md §1.5)."""
     labels = np.asarray(result.labels)
-    pts = np.asarray(result.points, dtype=float).reshape(-1, 3)
     raw = result.raw
     owner = np.full(len(labels), UNTRACKED, dtype=np.int64)
     lut = {int(lab): int(tid) for lab, tid in zip(raw.estimate_labels, raw.tids)}
@@ -82,6 +104,10 @@ def cloud_from_frame(result, plane, band_m: float, voxel_m: float) -> SceneCloud
         owner[obj] = table[labels[obj]]
     env = np.asarray(result.environment_mask)
     owner[env] = ENVIRONMENT
-    keep = (obj | env) & np.all(np.isfinite(pts), axis=1)
-    p, o = voxel_thin(pts[keep], owner[keep], voxel_m)
+    keep = np.flatnonzero(obj | env)  # converted to float, tested finite: only these rows
+    pts = np.take(np.asarray(result.points).reshape(-1, 3), keep, axis=0).astype(float, copy=False)
+    finite = np.isfinite(pts[:, 0]) & np.isfinite(pts[:, 1]) & np.isfinite(pts[:, 2])
+    if not finite.all():
+        pts, keep = pts[finite], keep[finite]
+    p, o = voxel_thin(pts, owner[keep], voxel_m)
     return SceneCloud(p, o, np.asarray(plane.n, dtype=float), float(plane.c), float(band_m))

@@ -65,3 +65,44 @@ def test_the_heights_of_the_contents_on_a_coarser_grid():
     ij = grid.index(np.array([[0.34, 0.58], [0.25, 0.50]]))
     assert h[ij[0, 0], ij[0, 1]] == pytest.approx(0.05, abs=CELL_M)
     assert h[ij[1, 0], ij[1, 1]] == 0.0
+
+
+def _turned_grid(cell_m=0.005):
+    """A grid over a tray turned 30 deg about the vertical (no walls)."""
+    a = np.radians(30.0)
+    axes = np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
+    return TrayGeometry(np.array([0.34, 0.58]), axes, np.array([0.14, 0.12]), FLOOR_Z).grid(cell_m)
+
+
+def _frame_like(seed=0, n=60000) -> np.ndarray:
+    """A camera frame's worth of points, the tray a part of them, rows of NaN and stray infs."""
+    rng = np.random.default_rng(seed)
+    pts = np.c_[rng.uniform(0.0, 0.7, n), rng.uniform(0.2, 1.0, n), rng.uniform(0.19, 0.3, n)]
+    pts[rng.random(n) < 0.1] = np.nan
+    pts[rng.integers(0, n, 50), rng.integers(0, 3, 50)] = np.inf
+    return pts.astype(np.float32)
+
+
+def test_cells_of_returns_what_indexing_every_finite_point_returns():
+    grid = _turned_grid()
+    for frame in (_frame_like(0), _frame_like(1).astype(float)):
+        pts = np.asarray(frame, float)
+        pts = pts[np.all(np.isfinite(pts), axis=1)]
+        uv = (pts[:, :2] - grid.geometry.center_xy) @ grid.geometry.axes + grid.geometry.half_m
+        ij = np.floor(uv / grid.cell_m).astype(np.int64)  # the rotation as one matrix product
+        ok = grid.inside(ij)
+        np.testing.assert_array_equal(grid.index(pts[:, :2]), ij)
+        got_pts, got_ij = grid.cells_of(frame)
+        np.testing.assert_array_equal(got_pts, pts[ok])
+        np.testing.assert_array_equal(got_ij, ij[ok])
+        expected = np.full(grid.shape, -np.inf)
+        np.maximum.at(expected, (ij[ok, 0], ij[ok, 1]), pts[ok, 2] - FLOOR_Z)
+        expected[np.isinf(expected)] = np.nan
+        np.testing.assert_array_equal(grid.heights(frame), expected)
+    assert 0 < len(got_pts) < len(pts)
+
+
+def test_cells_of_nothing():
+    pts, ij = _turned_grid().cells_of(np.zeros((0, 3)))
+    assert pts.shape == (0, 3) and ij.shape == (0, 2)
+    assert np.isnan(_turned_grid().heights(np.full((4, 3), np.nan))).all()

@@ -41,3 +41,48 @@ def test_voxel_thinning_keeps_one_point_per_voxel_and_owner():
     own = np.array([1, 1, 2, 1])
     p, o = voxel_thin(pts, own, 0.003)
     assert len(p) == 3 and sorted(o.tolist()) == [1, 1, 2]
+
+
+def _unique_thin(points, owner, voxel_m):
+    """The thinning as one np.unique over the (voxel, owner) key: what voxel_thin returns."""
+    ii = np.floor(points / voxel_m).astype(np.int64)
+    ii -= ii.min(axis=0)
+    dims = ii.max(axis=0) + 1
+    key = ((ii[:, 0] * dims[1] + ii[:, 1]) * dims[2] + ii[:, 2]) * (int(owner.max() - owner.min()) + 1)
+    _, first = np.unique(key + owner - owner.min(), return_index=True)
+    return points[first], owner[first]
+
+
+def _frame_like(seed, n=20000):
+    """Points in a 0.4 m box with many per voxel, NaN rows, labels of 3 clusters / environment
+    / dropped."""
+    rng = np.random.default_rng(seed)
+    pts = rng.uniform(-0.2, 0.2, (n, 3)).astype(np.float32) + np.float32([0.5, 0.0, 0.3])
+    pts[rng.random(n) < 0.05] = np.nan
+    labels = rng.integers(-3, 3, n)
+    return pts, labels
+
+
+def test_voxel_thin_returns_what_np_unique_returns():
+    for seed, voxel_m in ((0, 0.003), (1, 0.02), (2, 1e-9)):  # 1e-9: keys too large to pack
+        pts, labels = _frame_like(seed)
+        pts = pts[np.isfinite(pts[:, 0])].astype(float)
+        owner = labels[:len(pts)].astype(np.int64)
+        got, expected = voxel_thin(pts, owner, voxel_m), _unique_thin(pts, owner, voxel_m)
+        assert len(got[0]) < len(pts) or voxel_m < 1e-6
+        for a, b in zip(got, expected):
+            np.testing.assert_array_equal(a, b)
+
+
+def test_cloud_from_frame_keeps_the_rows_a_full_float_copy_would_keep():
+    pts, labels = _frame_like(3)
+    fr = _frame(pts, labels, estimate_labels=[0, 2], tids=[5, 9])
+    fr.points = pts  # float32, as the perception core gives them
+    cloud = cloud_from_frame(fr, PLANE, 0.01, 0.003)
+    full = pts.astype(float)
+    owner = np.select([labels == 0, labels == 2, labels == 1, labels == -1],
+                      [5, 9, UNTRACKED, ENVIRONMENT], -99)
+    keep = (labels >= -1) & np.all(np.isfinite(full), axis=1)
+    expected = _unique_thin(full[keep], owner[keep], 0.003)
+    np.testing.assert_array_equal(cloud.points, expected[0])
+    np.testing.assert_array_equal(cloud.owner, expected[1])
