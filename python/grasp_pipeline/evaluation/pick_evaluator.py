@@ -2,7 +2,9 @@
 whether it ended in the tray — a subscriber of the run's events (evaluation code only).
 
 On ``StageEvent("pick_start", detail="x y")`` it picks the true object nearest the anchor and
-follows its height on every :class:`~grasp_pipeline.orchestration.events.Tick`; on the
+follows its height on every :class:`~grasp_pipeline.orchestration.events.Tick`; when the hand
+lifts (``StageEvent("LIFT")``) and one object touches both fingers, that object is followed
+instead (in clutter the nearest centre can be a neighbour of what the hand closed on); on the
 pick's :class:`~grasp_pipeline.orchestration.events.PickEvent` it fills ``object``,
 ``lift_m``, ``held_s`` and ``placed`` of the :class:`~grasp_pipeline.results.PickResult`.
 """
@@ -16,6 +18,7 @@ import numpy as np
 
 from ..orchestration.events import EventBus, PickEvent, StageEvent, Tick
 from ..sim.ground_truth import object_body_id, object_truths
+from ..sim.object_geoms import OBJECT_PREFIX, geom_object
 
 #: The report's "lifted" threshold [m] (an object counts as held while ≥ this above its start).
 MIN_LIFT_EVAL_M = 0.05
@@ -61,6 +64,19 @@ def lift_figures(samples: list, z0: float, released_at: Optional[float], min_lif
     return {"lift_m": float(rise.max()), "held_s": float(dt[rise >= min_lift_m].sum())}
 
 
+def between_fingers(world) -> Optional[str]:
+    """The object both fingers touch now (None: none, or more than one)."""
+    sides: dict = {"leftfinger": set(), "rightfinger": set()}
+    for robot_geom, other in world.robot_contacts():
+        if not other.startswith(OBJECT_PREFIX):
+            continue
+        for side, names in sides.items():
+            if side in robot_geom:
+                names.add(geom_object(other)[len(OBJECT_PREFIX):])
+    both = sides["leftfinger"] & sides["rightfinger"]
+    return next(iter(both)) if len(both) == 1 else None
+
+
 class PickEvaluator:
     """Subscribe with :meth:`attach`; fills each pick's ground-truth fields."""
 
@@ -70,6 +86,7 @@ class PickEvaluator:
         self.z0 = math.nan
         self.samples: list = []
         self._body: Optional[int] = None  # MuJoCo body id of the followed object
+        self._start_z: dict = {}  # every object's height when the pick started
 
     def attach(self, events: EventBus) -> "PickEvaluator":
         events.subscribe(StageEvent, self.on_stage)
@@ -80,8 +97,16 @@ class PickEvaluator:
     def on_stage(self, ev: StageEvent) -> None:
         if ev.name == "pick_start":
             x, y = (float(v) for v in ev.detail.split())
-            self.name, self.z0, self.samples = nearest_truth_name(self.world, (x, y)), math.nan, []
-            self._body = None if self.name is None else object_body_id(self.world, self.name)
+            self._start_z = {t.name: float(t.position_m[2]) for t in object_truths(self.world)}
+            self._follow(nearest_truth_name(self.world, (x, y)), math.nan)
+        elif ev.name == "LIFT" and self.name is not None:
+            held = between_fingers(self.world)
+            if held is not None and held != self.name and held in self._start_z:
+                self._follow(held, self._start_z[held])
+
+    def _follow(self, name: Optional[str], z0: float) -> None:
+        self.name, self.z0, self.samples = name, z0, []
+        self._body = None if name is None else object_body_id(self.world, name)
 
     def on_tick(self, ev: Tick) -> None:
         """Sample the followed object's height (every tick: read straight from the body)."""
