@@ -167,7 +167,10 @@ class OccupancyMap:
                 "(motion.max_environment_points); down-sample it first")
         lo_ws = np.asarray(workspace_min_m, dtype=float)
         hi_ws = np.asarray(workspace_max_m, dtype=float)
-        pts = _rows_where(pts, np.all(np.isfinite(pts), axis=1)).astype(float, copy=False)
+        pts = pts.astype(float, copy=False)
+        # a NaN or infinite coordinate fails the bounds check of a finite workspace box
+        if not (np.all(np.isfinite(lo_ws)) and np.all(np.isfinite(hi_ws))):
+            pts = _rows_where(pts, np.all(np.isfinite(pts), axis=1))
         pts = _rows_where(pts, np.all((pts >= lo_ws) & (pts <= hi_ws), axis=1))
         if pts is points:
             pts = pts.copy()  # the map keeps its own points

@@ -55,3 +55,15 @@ def test_cleared_view_is_built_once_per_box_and_equals_a_fresh_one():
     assert np.array_equal(view.distance_m(q, cleared=True), fresh.distance_m(q, cleared=True))
     assert np.array_equal(view.cleared_region()[1], fresh.cleared_region()[1])
     assert m.cleared_region() is None  # the map itself stays plain
+
+
+def test_non_finite_and_outside_points_are_dropped():
+    pts = np.array([[0.1, 0.2, 0.3], [np.nan, 0.0, 0.0], [np.inf, 0.0, 0.0], [0.0, -np.inf, 0.0],
+                    [0.3, 0.2, 0.1], [2.0, 0.0, 0.0]])
+    m = OccupancyMap.from_points(pts, 0.01, [-1.0] * 3, [1.0] * 3, pad_m=0.05, max_points=100,
+                                 max_voxels=10**7)
+    assert m._points is not pts and np.array_equal(m._points, pts[[0, 4]])
+    inside = pts[[0, 4]]
+    m = OccupancyMap.from_points(inside, 0.01, [-1.0] * 3, [1.0] * 3, pad_m=0.05, max_points=100,
+                                 max_voxels=10**7)
+    assert m._points is not inside and np.array_equal(m._points, inside)  # its own copy
