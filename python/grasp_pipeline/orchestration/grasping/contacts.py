@@ -136,17 +136,19 @@ def _material(X, Y, Z, strip, z_tcp, hand: HandModel):
 def _coverage(X, Y, mat, y_edge, sign, lim: ContactLimits, hand: HandModel):
     """(K,) the share of the pad's width the material within ``contact_depth_m`` of the
     edge ``y_edge`` covers (``sign`` +1: the upper edge)."""
-    near = mat & (sign * (Y - y_edge[None, :]) >= -lim.contact_depth_m)
+    d = Y - y_edge[None, :]  # sign · d >= −depth, without the product (negation is exact)
+    near = mat & ((d >= -lim.contact_depth_m) if sign > 0 else (d <= lim.contact_depth_m))
     span = _masked_max(X, near) - _masked_min(X, near)
     return np.clip(np.nan_to_num(span, neginf=0.0, posinf=0.0) / (2.0 * hand.pad_half_width_m), 0.0, 1.0), near
 
 
-def _antipodal(a: np.ndarray, near: np.ndarray, cos_cone: float) -> tuple[np.ndarray, np.ndarray]:
+def _antipodal(a: np.ndarray, facing: np.ndarray, near: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(mean |n·c|, share of the points facing the pad within the cone) of the points in
-    ``near`` per frame, ``a`` (N, K) being |n·c|; NaN where there are none."""
+    ``near`` per frame, ``a`` (N, K) being |n·c| and ``facing`` (N, K) a >= cos(cone); NaN
+    where there are none."""
     cnt = near.sum(axis=0)
     mean = np.where(cnt > 0, np.where(near, a, 0.0).sum(axis=0) / np.maximum(cnt, 1), np.nan)
-    inside = np.where(cnt > 0, (near & (a >= cos_cone)).sum(axis=0) / np.maximum(cnt, 1), np.nan)
+    inside = np.where(cnt > 0, (near & facing).sum(axis=0) / np.maximum(cnt, 1), np.nan)
     return mean, inside
 
 
@@ -218,8 +220,8 @@ def evaluate(frames: Frames, target: TargetModel, hand: HandModel, lim: ContactL
     cov_hi, near_hi = _coverage(X, Y, mat, y_hi, 1.0, lim, hand)
     cov_lo, near_lo = _coverage(X, Y, mat, y_lo, -1.0, lim, hand)
     a_nc = np.abs(_normals_along_closing(target.normals, frames))
-    cos_cone = float(np.cos(np.radians(lim.friction_cone_deg)))
-    (m_hi, f_hi), (m_lo, f_lo) = _antipodal(a_nc, near_hi, cos_cone), _antipodal(a_nc, near_lo, cos_cone)
+    facing = a_nc >= float(np.cos(np.radians(lim.friction_cone_deg)))
+    (m_hi, f_hi), (m_lo, f_lo) = _antipodal(a_nc, facing, near_hi), _antipodal(a_nc, facing, near_lo)
     ends, facing = np.stack([m_hi, m_lo]), np.stack([f_hi, f_lo])
     known = np.isfinite(ends)
     outside_cone = np.any(known & (np.nan_to_num(facing) < lim.min_facing_fraction), axis=0)

@@ -91,3 +91,25 @@ def test_fingers_blocked_equals_the_finger_by_finger_count():
     got = contacts._fingers_blocked(np.abs(X - frames.x0[None, :]), Y, Z, y_mid, z_tcp, opening, lim, hand)
     want = _blocked_reference(X, Y, Z, frames.x0, y_mid, z_tcp, opening, lim, hand)
     assert got.dtype == want.dtype and np.array_equal(got, want) and want.max() > 0
+
+
+def test_coverage_equals_the_signed_form():
+    """The contact patch near each pad edge: ``sign · (Y − edge) >= −depth`` as the check reads."""
+    rng = np.random.default_rng(8)
+    hand = hand_model(0.04)
+    lim = ContactLimits(max_width_m=0.08, min_width_m=0.0, open_margin_m=0.01, max_opening_m=0.08,
+                        palm_clearance_m=0.005, table_clearance_m=0.005, min_material_points=4,
+                        contact_depth_m=0.004, min_contact_fraction=0.3, blocked_points=2)
+    frames = _frames(rng, 40, 5)
+    pts = np.round(rng.normal(0.0, 0.03, size=(500, 3)) / 0.002) * 0.002
+    X, Y, _ = contacts._project(pts, frames)
+    mat = rng.random(X.shape) < 0.6
+    for sign in (1.0, -1.0):
+        edge = np.round(rng.normal(0.0, 0.02, len(frames)) / 0.002) * 0.002
+        cov, near = contacts._coverage(X, Y, mat, edge, sign, lim, hand)
+        want = mat & (sign * (Y - edge[None, :]) >= -lim.contact_depth_m)
+        assert np.array_equal(near, want) and 0 < want.sum() < want.size
+        span = np.max(X, axis=0, where=want, initial=-np.inf) - np.min(X, axis=0, where=want, initial=np.inf)
+        width = np.clip(np.nan_to_num(span, neginf=0.0, posinf=0.0) / (2.0 * hand.pad_half_width_m), 0.0, 1.0)
+        assert np.array_equal(cov, width)
+
