@@ -27,6 +27,7 @@ from scipy import ndimage
 from scipy.spatial import cKDTree
 
 from .exceptions import EnvironmentCloudError
+from .matmul_blocks import matmul_rows
 
 log = logging.getLogger(__name__)
 
@@ -75,14 +76,18 @@ class OrientedBox:
     def inflated(self, pad_m: float) -> "OrientedBox":
         return OrientedBox(self.center, self.R, self.extents + 2.0 * pad_m)
 
+    def local(self, points: np.ndarray) -> np.ndarray:
+        """(N, 3) the points' coordinates along the box axes, from its centre (in row blocks:
+        :mod:`.matmul_blocks`)."""
+        return matmul_rows(np.asarray(points, dtype=float) - self.center, self.R)
+
     def contains(self, points: np.ndarray) -> np.ndarray:
         """Boolean mask of the points (N, 3) inside the box."""
-        local = (np.asarray(points, dtype=float) - self.center) @ self.R
-        return np.all(np.abs(local) <= 0.5 * self.extents, axis=-1)
+        return np.all(np.abs(self.local(points)) <= 0.5 * self.extents, axis=-1)
 
     def distance_m(self, points: np.ndarray) -> np.ndarray:
         """Distance of each point (N, 3) to the box (0 inside)."""
-        local = (np.asarray(points, dtype=float) - self.center) @ self.R
+        local = self.local(points)
         h = 0.5 * self.extents
         return np.linalg.norm(local - np.clip(local, -h, h), axis=-1)
 

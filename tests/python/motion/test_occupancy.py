@@ -67,3 +67,16 @@ def test_non_finite_and_outside_points_are_dropped():
     m = OccupancyMap.from_points(inside, 0.01, [-1.0] * 3, [1.0] * 3, pad_m=0.05, max_points=100,
                                  max_voxels=10**7)
     assert m._points is not inside and np.array_equal(m._points, inside)  # its own copy
+
+
+def test_box_queries_equal_the_plain_products():
+    rng = np.random.default_rng(9)
+    R = np.linalg.qr(rng.normal(size=(3, 3)))[0].T  # a transposed (F order) rotation, as boxes get
+    box = OrientedBox(np.array([0.5, 0.0, 0.1]), R, np.array([0.06, 0.04, 0.1]))
+    pts = box.center + rng.normal(0.0, 0.05, size=(60000, 3))
+    local = (pts - box.center) @ box.R
+    assert np.array_equal(box.contains(pts), np.all(np.abs(local) <= 0.5 * box.extents, axis=-1))
+    h = 0.5 * box.extents
+    assert np.array_equal(box.distance_m(pts), np.linalg.norm(local - np.clip(local, -h, h), axis=-1))
+    assert box.contains(box.center) and box.distance_m(box.center[None])[0] == 0.0
+
