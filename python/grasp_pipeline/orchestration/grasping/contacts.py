@@ -163,7 +163,7 @@ def _fingers_blocked(dx, Y, Z, y_mid, z_tcp, opening, lim: ContactLimits, hand: 
     d = Y - y_mid[None, :]  # the upper finger's side; the lower's is −d (negation is exact)
     upper = (way & (d >= inner) & (d <= outer)).sum(axis=0)
     lower = (way & (d <= -inner) & (d >= -outer)).sum(axis=0)
-    return np.maximum(np.maximum(np.zeros(dx.shape[1], dtype=np.int64), upper), lower)
+    return np.maximum(upper, lower).astype(np.int64, copy=False)
 
 
 def _project(points: np.ndarray, frames: Frames):
@@ -223,8 +223,8 @@ def evaluate(frames: Frames, target: TargetModel, hand: HandModel, lim: ContactL
     cov_hi, near_hi = _coverage(X, Y, mat, y_hi, 1.0, lim, hand)
     cov_lo, near_lo = _coverage(X, Y, mat, y_lo, -1.0, lim, hand)
     a_nc = np.abs(_normals_along_closing(target.normals, frames))
-    facing = a_nc >= float(np.cos(np.radians(lim.friction_cone_deg)))
-    (m_hi, f_hi), (m_lo, f_lo) = _antipodal(a_nc, facing, near_hi), _antipodal(a_nc, facing, near_lo)
+    in_cone = a_nc >= float(np.cos(np.radians(lim.friction_cone_deg)))
+    (m_hi, f_hi), (m_lo, f_lo) = _antipodal(a_nc, in_cone, near_hi), _antipodal(a_nc, in_cone, near_lo)
     ends, facing = np.stack([m_hi, m_lo]), np.stack([f_hi, f_lo])
     known = np.isfinite(ends)
     outside_cone = np.any(known & (np.nan_to_num(facing) < lim.min_facing_fraction), axis=0)
