@@ -62,6 +62,7 @@ class MotionPlanner:
         self.plane = None
         self.target_index: int | None = None
         self.last_scene_ms = 0.0
+        self._last_object_points: tuple | None = None
 
     # ------------------------------------------------------------------ scene
     def set_scene(self, environment_points: np.ndarray, object_boxes: list[OrientedBox] | None = None,
@@ -124,22 +125,34 @@ class MotionPlanner:
         self.validator.set_scene(self.env, obstacles, target, self._object_points(tops))
 
     def _object_points(self, tops: list) -> ObjectPoints | None:
-        """The columns under the non-target objects' tops, as the validator's point obstacles."""
+        """The columns under the non-target objects' tops, as the validator's point obstacles
+        (the very object of the last call for the same tops, plane and reach, so that the
+        validator keeps its collision scene)."""
         if not tops:
             return None
         cell = cleared_cell_m(self.config.voxel_size_m)
+        pad = self.validator.required_points_pad_m(cell_rounding_m(cell))
+        plane = None if self.plane is None else (np.array(self.plane.n, float), float(self.plane.c))
+        last = self._last_object_points
+        if last is not None and last[2] == pad and _same_tops(last[0], tops) and _same_plane(last[1], plane):
+            return last[3]
         pts = np.vstack(tops)
-        if self.plane is not None:
-            pts = columns(pts, self.plane.n, float(self.plane.c), cell)
-        return ObjectPoints(pts, cell, self.validator.required_points_pad_m(cell_rounding_m(cell)))
+        if plane is not None:
+            pts = columns(pts, plane[0], plane[1], cell)
+        made = ObjectPoints(pts, cell, pad)
+        self._last_object_points = ([np.array(t, copy=True) for t in tops], plane, pad, made)
+        return made
 
     def set_finger_opening(self, gap_m: float) -> None:
         """Finger gap assumed by the collision model (e.g. the object width while holding)."""
         self.robot.set_finger_opening(gap_m)
 
     def _self_filter(self, pts: np.ndarray, q: np.ndarray) -> np.ndarray:
+        """The finite points ``pts`` (N, 3) outside the robot's spheres (+ the self-filter
+        padding) with the arm at ``q``."""
         finite = np.all(np.isfinite(pts), axis=1)
-        pts = pts[finite]
+        if not finite.all():
+            pts = pts[finite]
         C = self.robot.centres(q[None])[0]
         r = self.robot.spheres.radius + self.config.self_filter_padding_m
         lo, hi = C.min(0) - r.max(), C.max(0) + r.max()
@@ -150,8 +163,7 @@ class MotionPlanner:
 
         tree = cKDTree(pts[near])
         drop = np.zeros(int(near.sum()), dtype=bool)
-        for c, rr in zip(C, r):
-            idx = tree.query_ball_point(c, rr)
+        for idx in tree.query_ball_point(C, r):
             if idx:
                 drop[idx] = True
         keep = np.ones(len(pts), dtype=bool)
@@ -259,3 +271,15 @@ class MotionPlanner:
                 raise PlanningFailedError(f"timed trajectory sample is invalid: {v.explain(bad)}")
         finally:
             v.allow_target_contact = prev
+
+
+def _same_tops(a: list, b: list) -> bool:
+    """Whether two lists of column-top arrays hold the same values."""
+    return len(a) == len(b) and all(np.array_equal(x, np.asarray(y)) for x, y in zip(a, b))
+
+
+def _same_plane(a: tuple | None, b: tuple | None) -> bool:
+    """Whether two planes ((n, c) or None) are the same."""
+    if a is None or b is None:
+        return a is b
+    return np.array_equal(a[0], b[0]) and a[1] == b[1]

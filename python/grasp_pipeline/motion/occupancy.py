@@ -27,6 +27,7 @@ from scipy import ndimage
 from scipy.spatial import cKDTree
 
 from .exceptions import EnvironmentCloudError
+from .matmul_blocks import matmul_rows
 
 log = logging.getLogger(__name__)
 
@@ -75,14 +76,18 @@ class OrientedBox:
     def inflated(self, pad_m: float) -> "OrientedBox":
         return OrientedBox(self.center, self.R, self.extents + 2.0 * pad_m)
 
+    def local(self, points: np.ndarray) -> np.ndarray:
+        """(N, 3) the points' coordinates along the box axes, from its centre (in row blocks:
+        :mod:`.matmul_blocks`)."""
+        return matmul_rows(np.asarray(points, dtype=float) - self.center, self.R)
+
     def contains(self, points: np.ndarray) -> np.ndarray:
         """Boolean mask of the points (N, 3) inside the box."""
-        local = (np.asarray(points, dtype=float) - self.center) @ self.R
-        return np.all(np.abs(local) <= 0.5 * self.extents, axis=-1)
+        return np.all(np.abs(self.local(points)) <= 0.5 * self.extents, axis=-1)
 
     def distance_m(self, points: np.ndarray) -> np.ndarray:
         """Distance of each point (N, 3) to the box (0 inside)."""
-        local = (np.asarray(points, dtype=float) - self.center) @ self.R
+        local = self.local(points)
         h = 0.5 * self.extents
         return np.linalg.norm(local - np.clip(local, -h, h), axis=-1)
 
@@ -93,6 +98,35 @@ def boxes_distance_m(boxes: list[OrientedBox], points: np.ndarray) -> np.ndarray
     for b in boxes:
         d = np.minimum(d, b.distance_m(points))
     return d
+
+
+def _rows_where(points: np.ndarray, keep: np.ndarray) -> np.ndarray:
+    """``points[keep]``, without the copy when every row is kept."""
+    return points if keep.all() else points[keep]
+
+
+def distance_field_m(occupied: np.ndarray, voxel_size_m: float) -> np.ndarray:
+    """float32 field (the grid's shape): the distance [m] from each voxel centre to the nearest
+    occupied voxel centre (0 on an occupied voxel).
+
+    The same values as ``(ndimage.distance_transform_edt(~occupied) * voxel_size_m)
+    .astype(np.float32)``, computed for less: the exact nearest occupied voxel of each voxel
+    (the transform's feature indices), its integer squared distance in voxels, and a table of
+    ``sqrt(k) * voxel_size_m`` over those integers (the same float64 operations per value, so
+    the same float32 values, without the transform's float64 per-axis arrays)."""
+    ft = ndimage.distance_transform_edt(~occupied, return_distances=False, return_indices=True)
+    # squared voxel distances are below ndim * max(shape)^2: int32 where that fits
+    small = occupied.ndim * max(occupied.shape) ** 2 < np.iinfo(np.int32).max
+    kind = np.int32 if small else np.int64
+    sq = np.zeros(occupied.shape, dtype=kind)
+    for axis, n in enumerate(occupied.shape):
+        shape = [1] * occupied.ndim
+        shape[axis] = n
+        d = ft[axis].astype(kind, copy=False) - np.arange(n, dtype=kind).reshape(shape)
+        d *= d
+        sq += d
+    table = (np.sqrt(np.arange(int(sq.max()) + 1, dtype=np.float64)) * float(voxel_size_m)).astype(np.float32)
+    return table[sq]
 
 
 class OccupancyMap:
@@ -113,11 +147,9 @@ class OccupancyMap:
         self.inflation_m = math.sqrt(3.0) * self.voxel_size_m
         self.shape = np.array(occupied.shape, dtype=np.int64)
         self.num_occupied = int(np.count_nonzero(occupied))
-        if self.num_occupied:
-            self._field = (ndimage.distance_transform_edt(~occupied) * self.voxel_size_m).astype(np.float32)
-        else:
-            self._field = None
+        self._field = distance_field_m(occupied, self.voxel_size_m) if self.num_occupied else None
         self._cleared: tuple[OrientedBox, object] | None = None
+        self._cleared_views: dict[bytes, "OccupancyMap"] = {}
 
     # ------------------------------------------------------------------ construction
     @classmethod
@@ -138,10 +170,15 @@ class OccupancyMap:
             raise EnvironmentCloudError(
                 f"environment cloud has {len(pts)} points, over the limit of {max_points} "
                 "(motion.max_environment_points); down-sample it first")
-        pts = pts[np.all(np.isfinite(pts), axis=1)].astype(float, copy=False)
         lo_ws = np.asarray(workspace_min_m, dtype=float)
         hi_ws = np.asarray(workspace_max_m, dtype=float)
-        pts = pts[np.all((pts >= lo_ws) & (pts <= hi_ws), axis=1)]
+        pts = pts.astype(float, copy=False)
+        # a NaN or infinite coordinate fails the bounds check of a finite workspace box
+        if not (np.all(np.isfinite(lo_ws)) and np.all(np.isfinite(hi_ws))):
+            pts = _rows_where(pts, np.all(np.isfinite(pts), axis=1))
+        pts = _rows_where(pts, np.all((pts >= lo_ws) & (pts <= hi_ws), axis=1))
+        if pts is points:
+            pts = pts.copy()  # the map keeps its own points
         v = float(voxel_size_m)
         pad_vox = int(math.ceil(pad_m / v)) + 1
         if len(pts) == 0:
@@ -198,7 +235,8 @@ class OccupancyMap:
 
     def with_cleared_region(self, box: OrientedBox) -> "OccupancyMap":
         """A view of this map whose ``distance_m(..., cleared=True)`` treats the voxels
-        inside ``box`` as free (the grasp target's region). The original is unchanged.
+        inside ``box`` as free (the grasp target's region). The original is unchanged; the view
+        of one box is built once per map (asking again for the same box returns it).
 
         Near the box (within ``pad_m``) distances come from a k-d tree over the environment
         points outside the box, kept on a fine grid (half a voxel): nearly exact distances
@@ -206,7 +244,13 @@ class OccupancyMap:
         the hand may come as close to the table beside the target as the margin allows.
         """
 
+        box_key = b"".join(np.ascontiguousarray(a, dtype=float).tobytes()
+                           for a in (box.center, box.R, box.extents))
+        cached = self._cleared_views.get(box_key)
+        if cached is not None:
+            return cached
         view = copy.copy(self)
+        view._cleared_views = {}
         pts = self._points
         half = 0.5 * np.abs(box.R) @ box.extents + 2.0 * self.pad_m
         pts = pts[np.all(np.abs(pts - box.center) <= half, axis=1)]
@@ -222,6 +266,7 @@ class OccupancyMap:
             ii = np.stack([key // (dims[1] * dims[2]), (key // dims[2]) % dims[1], key % dims[2]], axis=1)
             pts = box.center + (ii + lo + 0.5) * f
         view._cleared = (box, cKDTree(pts) if len(pts) else None)
+        self._cleared_views[box_key] = view
         return view
 
     # ------------------------------------------------------------------ export

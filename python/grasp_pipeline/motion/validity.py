@@ -51,6 +51,7 @@ class StateValidator:
         self._core_version = -1
         self._core = None
         self._scene = None
+        self._scene_inputs: tuple = ()
         self._allow_target = False
         self.set_scene(env, boxes or [], target_box)
 
@@ -127,8 +128,11 @@ class StateValidator:
             self._env_cleared = env.with_cleared_region(
                 target_box.inflated(self.config.target_ignore_padding_m))
         self._thresholds()
-        self._scene = core_checker.collision_scene(self.config, env, self.boxes, self._env_cleared,
-                                                   self.points)
+        inputs = (env, self._env_cleared, self.points, *self.boxes)
+        if not _same_objects(inputs, self._scene_inputs):
+            self._scene = core_checker.collision_scene(self.config, env, self.boxes, self._env_cleared,
+                                                       self.points)
+            self._scene_inputs = inputs
         if self._core is not None:
             self._core.set_scene(self._scene)
 
@@ -246,3 +250,9 @@ class StateValidator:
                 reasons.append(f"{names[k]} within the clearance of {label} by {-slack[k] * 1e3:.1f} mm "
                                f"near ({p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}) m")
         return "; ".join(reasons) if reasons else "valid"
+
+
+def _same_objects(a: tuple, b: tuple) -> bool:
+    """Whether two tuples hold the very same objects (the collision scene built from one
+    stands for the other: maps, views, boxes and point sets are not changed once made)."""
+    return len(a) == len(b) and all(x is y for x, y in zip(a, b))

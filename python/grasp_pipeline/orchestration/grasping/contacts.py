@@ -28,6 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...motion.matmul_blocks import matmul_rows
 from .candidates import Frames
 from .hand_model import HandModel
 from .target_model import TargetModel
@@ -136,44 +137,61 @@ def _material(X, Y, Z, strip, z_tcp, hand: HandModel):
 def _coverage(X, Y, mat, y_edge, sign, lim: ContactLimits, hand: HandModel):
     """(K,) the share of the pad's width the material within ``contact_depth_m`` of the
     edge ``y_edge`` covers (``sign`` +1: the upper edge)."""
-    near = mat & (sign * (Y - y_edge[None, :]) >= -lim.contact_depth_m)
+    d = Y - y_edge[None, :]  # sign · d >= −depth, without the product (negation is exact)
+    near = mat & ((d >= -lim.contact_depth_m) if sign > 0 else (d <= lim.contact_depth_m))
     span = _masked_max(X, near) - _masked_min(X, near)
     return np.clip(np.nan_to_num(span, neginf=0.0, posinf=0.0) / (2.0 * hand.pad_half_width_m), 0.0, 1.0), near
 
 
-def _antipodal(normals_c: np.ndarray, near: np.ndarray, cos_cone: float) -> tuple[np.ndarray, np.ndarray]:
+def _antipodal(a: np.ndarray, facing: np.ndarray, near: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(mean |n·c|, share of the points facing the pad within the cone) of the points in
-    ``near`` per frame; NaN where there are none."""
+    ``near`` per frame, ``a`` (N, K) being |n·c| and ``facing`` (N, K) a >= cos(cone); NaN
+    where there are none."""
     cnt = near.sum(axis=0)
-    a = np.abs(normals_c)
     mean = np.where(cnt > 0, np.where(near, a, 0.0).sum(axis=0) / np.maximum(cnt, 1), np.nan)
-    inside = np.where(cnt > 0, (near & (a >= cos_cone)).sum(axis=0) / np.maximum(cnt, 1), np.nan)
+    inside = np.where(cnt > 0, (near & facing).sum(axis=0) / np.maximum(cnt, 1), np.nan)
     return mean, inside
 
 
-def _fingers_blocked(X, Y, Z, x0, y_mid, z_tcp, opening, lim: ContactLimits, hand: HandModel):
-    """(K,) object points in the worse finger's way (its sweep along the approach)."""
+def _fingers_blocked(dx, Y, Z, y_mid, z_tcp, opening, lim: ContactLimits, hand: HandModel):
+    """(K,) object points in the worse finger's way (its sweep along the approach); ``dx``
+    (N, K): the points' distances |X − x0| from the closing lines."""
     tol = lim.tolerance_m
-    lateral = np.abs(X - x0[None, :]) <= hand.pad_half_width_m + tol
-    ahead = Z <= (z_tcp + hand.pad_half_length_m)[None, :]
+    way = (dx <= hand.pad_half_width_m + tol) & (Z <= (z_tcp + hand.pad_half_length_m)[None, :])
     inner = 0.5 * opening[None, :] - tol
     outer = 0.5 * opening[None, :] + hand.finger_thickness_m
-    worst = np.zeros(X.shape[1], dtype=np.int64)
-    for s in (1.0, -1.0):
-        d = s * (Y - y_mid[None, :])
-        worst = np.maximum(worst, (lateral & ahead & (d >= inner) & (d <= outer)).sum(axis=0))
-    return worst
+    d = Y - y_mid[None, :]  # the upper finger's side; the lower's is −d (negation is exact)
+    upper = (way & (d >= inner) & (d <= outer)).sum(axis=0)
+    lower = (way & (d <= -inner) & (d >= -outer)).sum(axis=0)
+    return np.maximum(upper, lower).astype(np.int64, copy=False)
 
 
 def _project(points: np.ndarray, frames: Frames):
     """(X, Y, Z) (N, K) float32: the points in every frame's (b, c, a) coordinates, computed
-    once per (approach, closing) pair and spread to its lines."""
+    once per (approach, closing) pair (in row blocks: :mod:`~grasp_pipeline.motion.matmul_blocks`)
+    and spread to its lines."""
     pairs, first = np.unique(frames.pair, return_index=True)
-    axes = np.concatenate([frames.b[first], frames.c[first], frames.a[first]]).T.astype(np.float32)
-    proj = points.astype(np.float32) @ axes  # (N, 3 P)
+    axes = np.ascontiguousarray(np.concatenate([frames.b[first], frames.c[first], frames.a[first]]).T,
+                                dtype=np.float32)
+    proj = matmul_rows(points.astype(np.float32), axes)  # (N, 3 P)
     col = np.searchsorted(pairs, frames.pair)
     n = len(pairs)
     return proj[:, col], proj[:, n + col], proj[:, 2 * n + col]
+
+
+def _normals_along_closing(normals: np.ndarray, frames: Frames) -> np.ndarray:
+    """(N, K) float32 n·c of the points' normals (N, 3) along every frame's closing axis: the
+    products of ``normals @ frames.c.T``, computed once per distinct closing axis (frames of
+    one pair share it), with both operands in C order and in row blocks
+    (:func:`~grasp_pipeline.motion.matmul_blocks.matmul_rows`): the same products, element by
+    element."""
+    pairs, first, col = np.unique(frames.pair, return_index=True, return_inverse=True)
+    axes = frames.c[first]
+    if not np.array_equal(axes[col.reshape(-1)], frames.c):  # a pair with several closing axes
+        axes, col = frames.c, np.arange(len(frames))
+    prod = matmul_rows(np.asarray(normals, dtype=float), np.ascontiguousarray(axes.T, dtype=float))
+    # C order, as the product was: the sums over the points run in the same order
+    return np.take(prod.astype(np.float32), col.reshape(-1), axis=1)
 
 
 def evaluate(frames: Frames, target: TargetModel, hand: HandModel, lim: ContactLimits,
@@ -182,8 +200,9 @@ def evaluate(frames: Frames, target: TargetModel, hand: HandModel, lim: ContactL
     deeper than this (a hand raised to clear a neighbour)."""
     X, Y, Z = _project(target.points, frames)
     x0 = frames.x0
-    strip = np.abs(X - x0[None, :]) <= hand.pad_half_width_m
-    palm = np.abs(X - x0[None, :]) <= hand.pad_half_width_m + 0.025
+    dx = np.abs(X - x0[None, :])
+    strip = dx <= hand.pad_half_width_m
+    palm = dx <= hand.pad_half_width_m + 0.025
     z_first, z_last = _masked_min(Z, strip), _masked_max(Z, strip)
     z_palm = _masked_min(Z, palm) + hand.palm_above_tcp_m - lim.palm_clearance_m
     z_tcp = np.minimum(0.5 * (z_first + z_last), z_palm)
@@ -203,14 +222,14 @@ def evaluate(frames: Frames, target: TargetModel, hand: HandModel, lim: ContactL
     opening = np.minimum(width + lim.open_margin_m, lim.max_opening_m)
     cov_hi, near_hi = _coverage(X, Y, mat, y_hi, 1.0, lim, hand)
     cov_lo, near_lo = _coverage(X, Y, mat, y_lo, -1.0, lim, hand)
-    nc = (target.normals @ frames.c.T).astype(np.float32)
-    cos_cone = float(np.cos(np.radians(lim.friction_cone_deg)))
-    (m_hi, f_hi), (m_lo, f_lo) = _antipodal(nc, near_hi, cos_cone), _antipodal(nc, near_lo, cos_cone)
+    a_nc = np.abs(_normals_along_closing(target.normals, frames))
+    in_cone = a_nc >= float(np.cos(np.radians(lim.friction_cone_deg)))
+    (m_hi, f_hi), (m_lo, f_lo) = _antipodal(a_nc, in_cone, near_hi), _antipodal(a_nc, in_cone, near_lo)
     ends, facing = np.stack([m_hi, m_lo]), np.stack([f_hi, f_lo])
     known = np.isfinite(ends)
     outside_cone = np.any(known & (np.nan_to_num(facing) < lim.min_facing_fraction), axis=0)
     anti = np.where(known.any(axis=0), np.where(known, ends, 0.0).sum(axis=0) / np.maximum(known.sum(axis=0), 1), 0.5)
-    blocked = _fingers_blocked(X, Y, Z, x0, y_mid, z_tcp, opening, lim, hand)
+    blocked = _fingers_blocked(dx, Y, Z, y_mid, z_tcp, opening, lim, hand)
     pad_lo, pad_hi = z_tcp - hand.pad_half_length_m, z_tcp + hand.pad_half_length_m
     overlap = np.clip((np.minimum(pad_hi, z_last) - np.maximum(pad_lo, z_first))
                       / (2.0 * hand.pad_half_length_m), 0.0, 1.0)

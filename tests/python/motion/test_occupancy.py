@@ -1,0 +1,82 @@
+"""The occupancy map's cheaper paths give exactly what the plain computations give."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy import ndimage
+
+from grasp_pipeline.motion.occupancy import OccupancyMap, OrientedBox, distance_field_m
+
+
+def _reference_field(occupied: np.ndarray, voxel_m: float) -> np.ndarray:
+    """The distance field as scipy's Euclidean distance transform gives it."""
+    return (ndimage.distance_transform_edt(~occupied) * voxel_m).astype(np.float32)
+
+
+@pytest.mark.parametrize("shape, fill", [((30, 41, 17), 0.01), ((5, 60, 9), 0.2), ((1, 1, 1), 1.0),
+                                         ((12, 3, 1), 0.05), ((25, 25, 25), 0.001)])
+@pytest.mark.parametrize("voxel_m", [0.01, 0.0075, 0.02])
+def test_distance_field_equals_scipy_transform(shape, fill, voxel_m):
+    rng = np.random.default_rng(len(shape) + int(fill * 1000))
+    occupied = rng.random(shape) < fill
+    occupied.flat[rng.integers(occupied.size)] = True
+    field = distance_field_m(occupied, voxel_m)
+    assert field.dtype == np.float32 and field.shape == occupied.shape
+    assert np.array_equal(field, _reference_field(occupied, voxel_m))
+
+
+def test_map_field_equals_scipy_transform_on_a_table_cloud():
+    rng = np.random.default_rng(3)
+    xy = rng.uniform([0.2, -0.4], [0.9, 0.4], size=(20000, 2))
+    table = np.c_[xy, rng.normal(0.0, 0.002, len(xy))]
+    box = rng.uniform([0.4, -0.1, 0.0], [0.5, 0.0, 0.08], size=(3000, 3))
+    pts = np.vstack([table, box, [[np.nan, 0.0, 0.0], [5.0, 5.0, 5.0]]])
+    m = OccupancyMap.from_points(pts, 0.01, [-1.2, -1.2, -0.2], [1.4, 1.4, 1.4], pad_m=0.1,
+                                 max_points=10**6, max_voxels=10**7)
+    assert np.array_equal(m.distance_field_m, _reference_field(m.occupied, 0.01))
+    # every finite point inside the workspace is kept, none other
+    assert len(m._points) == len(table) + len(box)
+
+
+def test_cleared_view_is_built_once_per_box_and_equals_a_fresh_one():
+    rng = np.random.default_rng(4)
+    pts = rng.uniform([0.3, -0.2, 0.0], [0.7, 0.2, 0.1], size=(5000, 3))
+    m = OccupancyMap.from_points(pts, 0.01, [-1.0] * 3, [1.0] * 3, pad_m=0.1, max_points=10**6,
+                                 max_voxels=10**7)
+    box = OrientedBox(np.array([0.5, 0.0, 0.05]), np.eye(3), np.array([0.06, 0.04, 0.1]))
+    view = m.with_cleared_region(box)
+    same = m.with_cleared_region(OrientedBox(box.center.copy(), box.R.copy(), box.extents.copy()))
+    other = m.with_cleared_region(box.inflated(0.01))
+    assert same is view and other is not view
+    fresh = OccupancyMap.from_points(pts, 0.01, [-1.0] * 3, [1.0] * 3, pad_m=0.1, max_points=10**6,
+                                     max_voxels=10**7).with_cleared_region(box)
+    q = rng.uniform([0.3, -0.2, 0.0], [0.7, 0.2, 0.15], size=(2000, 3))
+    assert np.array_equal(view.distance_m(q, cleared=True), fresh.distance_m(q, cleared=True))
+    assert np.array_equal(view.cleared_region()[1], fresh.cleared_region()[1])
+    assert m.cleared_region() is None  # the map itself stays plain
+
+
+def test_non_finite_and_outside_points_are_dropped():
+    pts = np.array([[0.1, 0.2, 0.3], [np.nan, 0.0, 0.0], [np.inf, 0.0, 0.0], [0.0, -np.inf, 0.0],
+                    [0.3, 0.2, 0.1], [2.0, 0.0, 0.0]])
+    m = OccupancyMap.from_points(pts, 0.01, [-1.0] * 3, [1.0] * 3, pad_m=0.05, max_points=100,
+                                 max_voxels=10**7)
+    assert m._points is not pts and np.array_equal(m._points, pts[[0, 4]])
+    inside = pts[[0, 4]]
+    m = OccupancyMap.from_points(inside, 0.01, [-1.0] * 3, [1.0] * 3, pad_m=0.05, max_points=100,
+                                 max_voxels=10**7)
+    assert m._points is not inside and np.array_equal(m._points, inside)  # its own copy
+
+
+def test_box_queries_equal_the_plain_products():
+    rng = np.random.default_rng(9)
+    R = np.linalg.qr(rng.normal(size=(3, 3)))[0].T  # a transposed (F order) rotation, as boxes get
+    box = OrientedBox(np.array([0.5, 0.0, 0.1]), R, np.array([0.06, 0.04, 0.1]))
+    pts = box.center + rng.normal(0.0, 0.05, size=(60000, 3))
+    local = (pts - box.center) @ box.R
+    assert np.array_equal(box.contains(pts), np.all(np.abs(local) <= 0.5 * box.extents, axis=-1))
+    h = 0.5 * box.extents
+    assert np.array_equal(box.distance_m(pts), np.linalg.norm(local - np.clip(local, -h, h), axis=-1))
+    assert box.contains(box.center) and box.distance_m(box.center[None])[0] == 0.0
+
