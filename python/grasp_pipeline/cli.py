@@ -289,6 +289,10 @@ def _uses_mujoco(args: argparse.Namespace) -> bool:
 def main(argv: list[str] | None = None) -> int:
     level, rest = _split_log_level(argv)
     args = build_parser().parse_args(rest)
+    if args.command != "train":  # thin products: the BLAS pool costs more than it gives
+        from .blas_threads import blas_on_calling_thread
+
+        blas_on_calling_thread()
     if level is not None:
         args.log_level = level
     from .logs import setup_logging
