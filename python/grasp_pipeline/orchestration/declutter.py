@@ -150,8 +150,9 @@ def _ended(outcome: DeclutterOutcome, consecutive: int, cfg: DeclutterConfig) ->
 
 def _attempt(ctx: PickContext, targets: list, out: DeclutterOutcome):
     """(the first attempted pick's row, its target), trying ``targets`` in order: a target
-    whose closer look leaves the grasp source without a grasp is declined — no attempt, it
-    joins ``out.skipped`` — and the next one is tried; (None, None) when all are declined."""
+    that the selection refuses after the closer look, or for which the grasp source then has no
+    grasp, is declined — no attempt, it joins ``out.skipped`` — and the next one is tried;
+    (None, None) when all are declined."""
     for xy in targets:
         log.info("attempt %d: %d target(s); picking at (%.3f, %.3f)", len(out.attempts) + 1,
                  len(targets), *xy)

@@ -129,16 +129,18 @@ def _forget_attempted(ctx: PickContext, estimate) -> None:
         volume.forget_after_attempt(estimate.center, estimate.R_box, estimate.extents)
 
 
-def _select_and_verify(ctx: PickContext, xy, row: PickResult):
-    """The selection result, or None with ``row`` marked as a SELECT failure."""
+def _select_and_verify(ctx: PickContext, xy, row: PickResult, decline: bool = False):
+    """The selection result, or None with ``row`` marked as a SELECT failure (``decline``:
+    declined instead — the selection refused the object after the closer look, before the arm
+    moved to grasp it, so that is no attempt)."""
     loop, scan_cfg = ctx.loop, ctx.settings.scan
     sel = loop.select(*xy)
     if not sel.ok:
-        row.failed_stage, row.message = Stage.SELECT, sel.message
+        row.failed_stage, row.message, row.declined = Stage.SELECT, sel.message, decline
         return None
     if not ctx.rt.spin_until(lambda: loop.selector.published >= scan_cfg.select_verify_frames,
                              scan_cfg.stale_timeout_s, look=True):
-        row.failed_stage = Stage.SELECT
+        row.failed_stage, row.declined = Stage.SELECT, decline
         row.message = f"selected, but no best grasp arrived within {scan_cfg.stale_timeout_s} s"
         loop.selector.clear()
         return None
@@ -232,8 +234,8 @@ def return_to_start(ctx: PickContext) -> None:
 def pick_object(ctx: PickContext, xy, decline_without_grasp: bool = False) -> PickResult:
     """Pick (and place) the object at ``xy`` [m, world]; see the module doc.
 
-    ``decline_without_grasp``: when, after the closer look, the grasp source proposes no
-    grasp, the pick is declined — ``row.declined``, no :class:`PickEvent`: the arm made no
+    ``decline_without_grasp``: when, after the closer look, the selection refuses the object or
+    the grasp source proposes no grasp, the pick is declined — ``row.declined``, no :class:`PickEvent`: the arm made no
     attempt (clearing a table then tries another object)."""
     wall0 = time.perf_counter()
     return_to_start(ctx)
@@ -243,7 +245,7 @@ def pick_object(ctx: PickContext, xy, decline_without_grasp: bool = False) -> Pi
         reprobe_if_needed(ctx, xy, row)
     side_view_if_needed(ctx, xy, row)
     out = None
-    sel = _select_and_verify(ctx, xy, row)
+    sel = _select_and_verify(ctx, xy, row, decline_without_grasp)
     if sel is not None:
         out = _run_action(ctx, xy, sel, row, decline_without_grasp)
     if row.declined:
