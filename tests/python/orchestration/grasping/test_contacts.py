@@ -75,12 +75,15 @@ def _blocked_reference(X, Y, Z, x0, y_mid, z_tcp, opening, lim, hand):
     return worst
 
 
-def test_fingers_blocked_equals_the_finger_by_finger_count():
-    rng = np.random.default_rng(7)
-    hand = hand_model(0.04)
-    lim = ContactLimits(max_width_m=0.08, min_width_m=0.0, open_margin_m=0.01, max_opening_m=0.08,
+#: Contact limits of the bit-for-bit comparisons below.
+_LIMITS = ContactLimits(max_width_m=0.08, min_width_m=0.0, open_margin_m=0.01, max_opening_m=0.08,
                         palm_clearance_m=0.005, table_clearance_m=0.005, min_material_points=4,
                         contact_depth_m=0.004, min_contact_fraction=0.3, blocked_points=2)
+
+
+def test_fingers_blocked_equals_the_finger_by_finger_count():
+    rng = np.random.default_rng(7)
+    hand, lim = hand_model(0.04), _LIMITS
     frames = _frames(rng, 60, 5)
     # points on a 2 mm grid, so that many lie exactly on the fingers' faces
     pts = np.round(rng.normal(0.0, 0.03, size=(700, 3)) / 0.002) * 0.002
@@ -96,10 +99,7 @@ def test_fingers_blocked_equals_the_finger_by_finger_count():
 def test_coverage_equals_the_signed_form():
     """The contact patch near each pad edge: ``sign · (Y − edge) >= −depth`` as the check reads."""
     rng = np.random.default_rng(8)
-    hand = hand_model(0.04)
-    lim = ContactLimits(max_width_m=0.08, min_width_m=0.0, open_margin_m=0.01, max_opening_m=0.08,
-                        palm_clearance_m=0.005, table_clearance_m=0.005, min_material_points=4,
-                        contact_depth_m=0.004, min_contact_fraction=0.3, blocked_points=2)
+    hand, lim = hand_model(0.04), _LIMITS
     frames = _frames(rng, 40, 5)
     pts = np.round(rng.normal(0.0, 0.03, size=(500, 3)) / 0.002) * 0.002
     X, Y, _ = contacts._project(pts, frames)
