@@ -81,13 +81,18 @@ _LIMITS = ContactLimits(max_width_m=0.08, min_width_m=0.0, open_margin_m=0.01, m
                         contact_depth_m=0.004, min_contact_fraction=0.3, blocked_points=2)
 
 
+def _grid_case(seed: int, n_frames: int, n_points: int):
+    """(rng, frames, X, Y, Z): random frames and points on a 2 mm grid (so that many lie
+    exactly on the pads' and fingers' faces), projected into the frames."""
+    rng = np.random.default_rng(seed)
+    frames = _frames(rng, n_frames, 5)
+    pts = np.round(rng.normal(0.0, 0.03, size=(n_points, 3)) / 0.002) * 0.002
+    return (rng, frames, *contacts._project(pts, frames))
+
+
 def test_fingers_blocked_equals_the_finger_by_finger_count():
-    rng = np.random.default_rng(7)
     hand, lim = hand_model(0.04), _LIMITS
-    frames = _frames(rng, 60, 5)
-    # points on a 2 mm grid, so that many lie exactly on the fingers' faces
-    pts = np.round(rng.normal(0.0, 0.03, size=(700, 3)) / 0.002) * 0.002
-    X, Y, Z = contacts._project(pts, frames)
+    rng, frames, X, Y, Z = _grid_case(7, 60, 700)
     y_mid = np.round(rng.normal(0.0, 0.01, len(frames)) / 0.002) * 0.002
     z_tcp = rng.normal(0.0, 0.01, len(frames))
     opening = np.round(rng.uniform(0.0, 0.08, len(frames)) / 0.002) * 0.002
@@ -98,11 +103,8 @@ def test_fingers_blocked_equals_the_finger_by_finger_count():
 
 def test_coverage_equals_the_signed_form():
     """The contact patch near each pad edge: ``sign · (Y − edge) >= −depth`` as the check reads."""
-    rng = np.random.default_rng(8)
     hand, lim = hand_model(0.04), _LIMITS
-    frames = _frames(rng, 40, 5)
-    pts = np.round(rng.normal(0.0, 0.03, size=(500, 3)) / 0.002) * 0.002
-    X, Y, _ = contacts._project(pts, frames)
+    rng, frames, X, Y, _ = _grid_case(8, 40, 500)
     mat = rng.random(X.shape) < 0.6
     for sign in (1.0, -1.0):
         edge = np.round(rng.normal(0.0, 0.02, len(frames)) / 0.002) * 0.002
