@@ -85,6 +85,7 @@ class GraspConfig:
     fully_closed_gap_m: float = 0.004
     held_gap_drop_m: float = 0.003
     held_min_force_N: float = 5.0
+    hold_by_force: bool = True
     lift_height_m: float = 0.10
     hold_check_s: float = 2.0
     retreat_height_m: float = 0.10

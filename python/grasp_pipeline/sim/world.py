@@ -90,6 +90,7 @@ def build_scene_model(scene: SceneSpec, config: SimConfig) -> mujoco.MjModel:
     except Exception as exc:
         raise ModelError(f"cannot compile scene {scene.name!r}: {exc}") from exc
     model.opt.timestep = config.timestep_s
+    model.opt.noslip_iterations = config.noslip_iterations
     return model
 
 

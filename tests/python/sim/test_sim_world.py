@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -167,3 +169,8 @@ def test_robot_contacts_match_a_contact_by_contact_check(make_world, motion):
                     assert world.unexpected_contacts(allowance) == _unexpected_one_by_one(world, allowance)
                 kinds.update(other.split("_")[0] for _, other in world.robot_contacts())
     assert {"obj", "table"} <= kinds, f"the descents did not touch an object and the table: {kinds}"
+
+
+def test_the_no_slip_passes_come_from_the_sim_config(make_world):
+    cfg = replace(load_sim_config(), noslip_iterations=7)
+    assert make_world(sim_config=cfg, camera=False).model.opt.noslip_iterations == 7

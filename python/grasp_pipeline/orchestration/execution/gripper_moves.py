@@ -8,10 +8,13 @@ Everything here reads only the :class:`~grasp_pipeline.robot.protocols.Gripper` 
   ``stall_speed_mps`` for ``stall_time_s``, or — ours — the gap held within
   ``stall_gap_band_m`` for ``stall_time_s``: pads pressing a thin or light object chatter,
   and their speed reading jumps above the threshold while the gap stands still); reaching the
-  commanded gap, closing fully or stalling without force means nothing is held;
-* :func:`watch_held` — wrap a motion so that a drop (:func:`hold_lost`: the gap fell
-  ``held_gap_drop_m`` below the stall gap *and* the squeeze force fell below
-  ``held_min_force_N``) aborts it at once.
+  commanded gap, closing fully or stalling without force means nothing is held; once
+  stalled (``hold_by_force``) the fingers are commanded shut at the same effort, so the squeeze
+  stays ``close_effort_N`` while the object creeps between the pads, as a force-controlled
+  hand (the Franka Hand's grasp) holds;
+* :func:`watch_held` — wrap a motion so that a drop (:func:`hold_lost`: the fingers shut
+  below ``fully_closed_gap_m``, or the gap fell ``held_gap_drop_m`` below the stall gap *and*
+  the squeeze force fell below ``held_min_force_N``) aborts it at once.
 """
 
 from __future__ import annotations
@@ -101,7 +104,10 @@ def close_until_stall(robot, width_m: float, config: GraspConfig):
         if robot.time_s - t0 > config.close_timeout_s:
             raise StageFailure(f"close timed out after {config.close_timeout_s} s "
                                f"(gap {gap * 1e3:.1f} mm)")
-    return _check_held(robot, width_m, config)
+    stall_gap = _check_held(robot, width_m, config)
+    if config.hold_by_force:
+        robot.set_gripper(0.0, effort_N=config.close_effort_N)
+    return stall_gap
 
 
 def _check_held(robot, width_m: float, config: GraspConfig) -> float:
@@ -118,11 +124,15 @@ def _check_held(robot, width_m: float, config: GraspConfig) -> float:
 
 
 def hold_lost(robot, stall_gap_m: float, config: GraspConfig) -> bool:
-    """Whether the gripper has lost the object it stalled on at ``stall_gap_m``: the gap fell
-    more than ``held_gap_drop_m`` below the stall gap and the squeeze force fell below
+    """Whether the gripper has lost the object it stalled on at ``stall_gap_m``: the fingers
+    shut (gap below ``fully_closed_gap_m``: nothing between the pads), or the gap fell more
+    than ``held_gap_drop_m`` below the stall gap and the squeeze force fell below
     ``held_min_force_N`` (the fingers no longer press on anything). A narrower gap at full
     force is still a hold: a rounded object turns a little between the pads and settles."""
-    return (robot.finger_gap_m < stall_gap_m - config.held_gap_drop_m
+    gap = robot.finger_gap_m
+    if gap < config.fully_closed_gap_m:
+        return True
+    return (gap < stall_gap_m - config.held_gap_drop_m
             and robot.gripper_force_N < config.held_min_force_N)
 
 

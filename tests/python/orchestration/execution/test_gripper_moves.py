@@ -8,7 +8,8 @@ import pytest
 
 from grasp_pipeline.orchestration.config import GraspConfig
 from grasp_pipeline.orchestration.execution.gripper_moves import (StageFailure, StallWatch,
-                                                                 close_until_stall)
+                                                                 close_command_m,
+                                                                 close_until_stall, hold_lost)
 
 STEP_S = 0.002
 
@@ -29,7 +30,7 @@ class ScriptedGripper:
         self.jitter_m, self._held_gap_m = jitter_m, None
 
     def set_gripper(self, gap_m: float, effort_N: float) -> None:
-        self.command_m = gap_m
+        self.command_m, self.effort_N = gap_m, effort_N
 
     def step(self) -> None:
         self.time_s += STEP_S
@@ -103,3 +104,37 @@ def test_no_stall_is_called_before_the_window_has_passed_since_the_command():
     while t < cfg.stall_time_s:
         t += STEP_S
         assert not watch.update(t, 0.02, 0.0)
+
+
+def test_after_the_stall_the_fingers_are_commanded_shut_at_the_closing_effort():
+    """Holding is force-controlled: once stalled, the command is a shut gap at
+    ``close_effort_N``, so the squeeze stays whatever the gap (an object creeping between the
+    pads stays squeezed instead of the gap reaching the close command and the force fading)."""
+    cfg = GraspConfig()
+    g = ScriptedGripper(object_m=0.030)
+    gap = _close(g, 0.034, cfg)
+    assert gap == pytest.approx(0.030, abs=0.0002)
+    assert g.command_m == 0.0 and g.effort_N == cfg.close_effort_N
+
+
+def test_without_hold_by_force_the_close_command_stays():
+    cfg = replace(GraspConfig(), hold_by_force=False)
+    g = ScriptedGripper(object_m=0.030)
+    _close(g, 0.034, cfg)
+    assert g.command_m == pytest.approx(close_command_m(0.034, cfg))
+
+
+class HeldReadings:
+    def __init__(self, gap_m: float, force_N: float):
+        self.finger_gap_m, self.gripper_force_N = gap_m, force_N
+
+
+@pytest.mark.parametrize("gap_m, force_N, lost", [
+    (0.030, 40.0, False),   # at the stall gap
+    (0.020, 40.0, False),   # crept 10 mm at full squeeze: still pressing on the object
+    (0.020, 2.0, True),     # narrower and no squeeze: nothing between the pads
+    (0.029, 2.0, False),    # within held_gap_drop_m of the stall gap
+    (0.002, 40.0, True),    # shut (pads on each other): the object left
+])
+def test_hold_lost(gap_m, force_N, lost):
+    assert hold_lost(HeldReadings(gap_m, force_N), 0.030, GraspConfig()) is lost
