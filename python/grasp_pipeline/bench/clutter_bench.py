@@ -198,12 +198,14 @@ def _tasks(protocol: str, objects: str, rounds: int, seeds: list[int], out: Path
     return tasks
 
 
-def _check_inputs(protocol: str, rounds: int, seeds: list[int], workers: int, overrides: tuple) -> None:
+def _check_inputs(protocol: str, rounds: int, seeds: list[int], workers: int, overrides: tuple):
+    """The run's settings; bad arguments or overrides fail here, before any round starts (the
+    settings are read once: a configuration edited during the run cannot break its summary)."""
     if protocol not in PROTOCOLS:
         raise InputError(f"protocol must be one of {PROTOCOLS}, got {protocol!r}")
     if rounds < 1 or workers < 1 or not seeds:
         raise InputError("rounds and workers must be >= 1 and at least one seed given")
-    clutter_settings(overrides)  # bad overrides fail here, before any round starts
+    return clutter_settings(overrides)
 
 
 def _check_objects(protocol: str, objects: str) -> dict:
@@ -245,7 +247,7 @@ def run_clutter_benchmark(protocol: str = "packed", objects: str = "builtin", ro
     SIGTERM at any phase — loading the objects, simulating, writing: the JSON says so, then
     KeyboardInterrupt is raised)."""
     seeds = [int(s) for s in seeds]
-    _check_inputs(protocol, rounds, seeds, workers, overrides)
+    bound_config = _check_inputs(protocol, rounds, seeds, workers, overrides).grasp_bound
     out = check_writable_dir(Path(out_dir), "output folder (--out)")
     if json_path is not None:
         check_writable(json_path, "benchmark JSON (--json)")
@@ -268,7 +270,7 @@ def run_clutter_benchmark(protocol: str = "packed", objects: str = "builtin", ro
         status, note = run_status(rows, interrupted)
         result = dataclasses.replace(
             aggregate(rows, protocol, str(objects), seeds, min(workers, len(tasks)), time.perf_counter() - t0,
-                      clutter_settings(overrides).grasp_bound),
+                      bound_config),
             status=status, status_note=note, rounds_requested=len(tasks), cpu_count=os.cpu_count(),
             mujoco_gl=worker_env()["MUJOCO_GL"], out_dir=str(out), backend=backend, object_notes=notes,
             warnings=(claim.warning,) if claim.warning else (), interrupted_while=phase if interrupted else None)
