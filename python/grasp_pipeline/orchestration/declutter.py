@@ -26,7 +26,7 @@ from .config import DeclutterConfig
 from .events import StageEvent
 from .grasping.accessibility import rank_by_accessibility
 from .grasping.opening import full_margin_width_m
-from .pick import PickContext, grasp_request, pick_object, return_to_start
+from .pick import PickContext, grasp_request, in_view, pick_object, return_to_start
 from .scene.targets import default_targets
 from .scene.tracks import nearest_track
 
@@ -107,19 +107,32 @@ def best_score(ctx: PickContext, xy) -> float | None:
     return float(getattr(grasps[0], "score", 0.0)) if grasps else None
 
 
+def _unseen(ctx: PickContext, xy) -> bool:
+    """Whether the object at ``xy`` has no points in the latest frame (hidden from where the
+    camera is: its pick measures it from above first, :func:`~.pick.pick_object`)."""
+    track, _ = nearest_track(ctx.loop.tracks(), xy)
+    return track is not None and not in_view(ctx.loop, track.tid)
+
+
 def _by_score(ctx: PickContext, targets: list, skipped: Optional[list]) -> list:
-    scored = []
+    """Targets by their best grasp's score; those without a grasp because the latest frame
+    does not show them come last (a closer look may find one), the others are left out."""
+    scored, unseen = [], []
     for k, t in enumerate(targets):
         scored.append((best_score(ctx, t), k, t))
-        if scored[-1][0] is None and skipped is not None:  # the source's reason is this object's now
+        if scored[-1][0] is None and _unseen(ctx, t):
+            unseen.append(t)
+        elif scored[-1][0] is None and skipped is not None:  # the source's reason is this object's now
             skipped.append(no_grasp_skip(ctx, t))
-    return [t for _, _, t in sorted((x for x in scored if x[0] is not None), key=lambda x: (-x[0], x[1]))]
+    ranked = sorted((x for x in scored if x[0] is not None), key=lambda x: (-x[0], x[1]))
+    return [t for _, _, t in ranked] + unseen
 
 
 def choose_order(ctx: PickContext, targets: list, failed_anchors: list, config: DeclutterConfig,
                  skipped: Optional[list] = None) -> list:
     """The round's target order: with ``order: score`` and a source that scores its grasps
-    (not top-down only), the object with the best grasp first; else by accessibility (or
+    (not top-down only), the object with the best grasp first, then those the latest frame
+    does not show (their pick looks from above first); else by accessibility (or
     nearest first), objects without a grasp fitted to their points after those with one
     (another object first: picking it may free them). Objects the source proposes no grasp
     for are left out (and added to ``skipped`` when given), failed places last."""

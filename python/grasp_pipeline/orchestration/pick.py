@@ -9,7 +9,8 @@
    when a frame arrives, after that frame's observations: with frames on demand, at the
    settle view, for an object not in view there; with continuous frames also while the
    camera looks at the tray during a place) and an oblique view misjudges what a grasp
-   needs, so an object whose track is no longer NADIR — or is gone — is measured from above
+   needs, so an object whose track is no longer NADIR — or is gone, or has no points in the
+   latest frame (hidden behind a neighbour from where the camera is) — is measured from above
    again;
 3. select by position (method.md §5) and verify that best grasps actually arrive (a dead upstream
    must not look like success);
@@ -62,13 +63,22 @@ class PickContext:
     side_view: Optional[object] = None  # SideView (None: no look at the target's sides)
 
 
+def in_view(loop, tid: int) -> bool:
+    """Whether the latest frame holds points of track ``tid`` (False: hidden or out of view
+    from where the camera is now — a track kept from an earlier view)."""
+    cloud = loop.scene_cloud()
+    return cloud is not None and len(cloud.of(int(tid))) > 0
+
+
 def _reprobe_centre(ctx: PickContext, xy) -> Optional[np.ndarray]:
-    """Where to look from above before picking at ``xy`` (None: the track is NADIR)."""
+    """Where to look from above before picking at ``xy`` (None: the track is NADIR and in
+    view)."""
     loop = ctx.loop
     chk = check_selection(float(xy[0]), float(xy[1]), loop.tracks(), loop.gate_m, loop.plane,
                           loop.selector.fallback_limit_m, loop.selector.judge)
     track = None if chk.kind in ("far", "nothing") else chk.track
-    if track is not None and track.quality == _core.ViewQuality.NADIR:
+    if (track is not None and track.quality == _core.ViewQuality.NADIR
+            and in_view(loop, track.tid)):
         return None
     if track is not None:
         return np.asarray(track.smoothed.center, float)

@@ -17,6 +17,16 @@ def _track(tid, x, y):
     return SimpleNamespace(tid=tid, smoothed=est, quality=_core.ViewQuality.NADIR)
 
 
+class _Cloud:
+    """The latest frame's points: one per track except the ``unseen`` tids."""
+
+    def __init__(self, unseen=()):
+        self.unseen = set(unseen)
+
+    def of(self, tid):
+        return [] if tid in self.unseen else [(0.0, 0.0, 0.0)]
+
+
 class _Cell:
     def pick_target_note(self, xy, margin):
         return None
@@ -33,7 +43,7 @@ def fake(monkeypatch):
     """A context whose table holds ``state['objects']``; a pick succeeds per ``state['plan']``."""
     state = {"objects": [(0.40, 0.0), (0.50, 0.0), (0.60, 0.0)], "plan": [], "looks": 0}
     loop = SimpleNamespace(tracks=lambda: [_track(i, *xy) for i, xy in enumerate(state["objects"])],
-                           judge=spec_judge)
+                           judge=spec_judge, scene_cloud=lambda: _Cloud(state.get("unseen", ())))
     ctx = SimpleNamespace(loop=loop, settings=SimpleNamespace(grasp=SimpleNamespace(target_fixture_margin_m=0.03)),
                           source=SimpleNamespace(name="fake", propose=lambda request: ["a grasp"]))
     monkeypatch.setattr(declutter, "grasp_request", lambda _ctx, xy, track: (xy, track.tid))
@@ -173,3 +183,27 @@ def test_ranked_by_score_each_skipped_object_keeps_its_own_refusal(fake):
     assert out == [(0.50, 0.0)]
     assert [s["why"] for s in skipped] == ["grasp source 'scored' proposed no grasp: too wide to close on",
                                            "grasp source 'scored' proposed no grasp: the hand meets a neighbour"]
+
+
+def test_ranked_by_score_an_object_the_latest_frame_does_not_show_comes_last(fake):
+    """No grasp because the latest frame holds none of its points (hidden behind a neighbour
+    from where the camera is): not skipped but tried last — its pick measures it from above
+    first; an object seen and refused stays skipped."""
+    ctx, state = fake
+    state["unseen"] = {0}
+
+    class Source:
+        name, top_down_only, last_refusal = "scored", False, ""
+
+        def propose(self, request):
+            x = round(float(request[0][0]), 2)
+            self.last_refusal = "no points in the latest frame" if x == 0.40 else (
+                "too wide to close on" if x == 0.60 else "")
+            return [] if self.last_refusal else [SimpleNamespace(score=0.9)]
+
+    ctx.source = Source()
+    skipped: list = []
+    targets = [(0.40, 0.0), (0.50, 0.0), (0.60, 0.0)]
+    out = declutter.choose_order(ctx, targets, [], DeclutterConfig(order="score"), skipped)
+    assert out == [(0.50, 0.0), (0.40, 0.0)]
+    assert [s["tid"] for s in skipped] == [2]

@@ -41,3 +41,31 @@ def test_an_accepted_selection_with_a_grasp_is_returned():
     result = SelectResult(True, "selected", tid=3)
     assert pick._select_and_verify(_ctx(result, published=1), (0.5, 0.0), row, True) is result
     assert row.failed_stage is None and not row.declined and row.selected == "selected"
+
+
+class _Cloud:
+    def __init__(self, seen):
+        self.seen = set(seen)
+
+    def of(self, tid):
+        return [(0.0, 0.0, 0.0)] if tid in self.seen else []
+
+
+@pytest.mark.parametrize("quality, seen, looks", [
+    ("NADIR", True, False),     # measured from above and in view: no re-probe
+    ("NADIR", False, True),     # measured from above, but hidden from where the camera is now
+    ("OBLIQUE", True, True),    # seen only obliquely
+])
+def test_the_re_probe_looks_from_above_at_an_oblique_or_hidden_target(monkeypatch, quality, seen, looks):
+    from grasp_pipeline import _core
+
+    track = SimpleNamespace(tid=4, quality=getattr(_core.ViewQuality, quality),
+                            smoothed=SimpleNamespace(center=[0.5, 0.1, 0.23]))
+    monkeypatch.setattr(pick, "check_selection", lambda *a: SimpleNamespace(kind="ok", track=track))
+    selector = SimpleNamespace(fallback_limit_m=0.05, judge=None)
+    loop = SimpleNamespace(tracks=lambda: [track], gate_m=0.05, plane=None, selector=selector,
+                           scene_cloud=lambda: _Cloud([4] if seen else []))
+    centre = pick._reprobe_centre(SimpleNamespace(loop=loop), (0.5, 0.1))
+    assert (centre is not None) is looks
+    if looks:
+        assert list(centre) == [0.5, 0.1, 0.23]
