@@ -99,3 +99,15 @@ def test_with_the_close_command_kept_the_squeeze_fades_as_the_gap_creeps(make_wo
     print(f"stall {stall_gap * 1e3:.1f} mm, gap now {world.finger_gap_m * 1e3:.1f} mm, "
           f"force {world.gripper_force_N:.1f} N, risen {risen * 1e3:.0f} mm, lost at {lost_at}")
     assert lost_at is not None
+
+
+def test_with_the_no_slip_passes_the_prism_does_not_creep(make_world, motion):
+    """``sim.noslip_iterations`` removes the soft contacts' creep: the gap stays at the stall
+    gap through the lift and the hold."""
+    from grasp_pipeline.sim.config import load_sim_config
+
+    sim = replace(load_sim_config(), noslip_iterations=5)
+    world = _prism_scene(lambda scene, camera: make_world(scene, sim_config=sim, camera=camera))
+    stall_gap, risen, lost_at = _grasp_lift_hold(world, motion, GraspConfig())
+    assert lost_at is None and risen > LIFT_M - 0.002
+    assert abs(world.finger_gap_m - stall_gap) < 0.001
