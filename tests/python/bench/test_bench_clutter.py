@@ -176,3 +176,23 @@ def test_rerun_writes_one_readable_recording_per_round(runs):
     s = summarize_recording(d / "recs" / name)
     assert s["/timeline/picks"].logs == len(row["attempts"])
     assert "scan_done" in s["/timeline/stages"].texts and s["/world/camera"].logs >= 3
+
+
+def test_the_settings_are_read_once_so_an_edit_during_the_run_cannot_break_its_summary(tmp_path, monkeypatch):
+    """The run reads its parameter sets before the first round; a configuration file edited
+    (here: unreadable) while the rounds run does not stop the JSON and summary being written."""
+    real, calls = cb.clutter_settings, []
+
+    def settings(overrides=(None, ())):
+        calls.append(overrides)
+        if len(calls) > 1:
+            raise RuntimeError("config/sim.yaml was edited during the run")
+        return real(overrides)
+
+    monkeypatch.setattr(cb, "clutter_settings", settings)
+    monkeypatch.setattr(cb, "run_jobs", lambda *args, **kwargs: ([], False))
+    json_path = tmp_path / "clutter.json"
+    result = cb.run_clutter_benchmark("sparse", rounds=1, json_path=json_path,
+                                      out_dir=tmp_path / "out", progress=False)
+    assert len(calls) == 1 and result.status == "complete"
+    assert json.loads(json_path.read_text())["rounds_requested"] == 1
