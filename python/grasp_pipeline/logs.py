@@ -19,3 +19,10 @@ def setup_logging(level: int, tag: str = "") -> None:
     logging.basicConfig(level=level, format=f"%(asctime)s %(levelname)s {tag}%(name)s: %(message)s")
     for name in QUIET_LOGGERS:
         logging.getLogger(name).setLevel(max(logging.WARNING, level))
+
+
+def retag_logging(tag: str) -> None:
+    """Change the prefix of every line of this process (a worker starting its next job)."""
+    fmt = logging.Formatter(f"%(asctime)s %(levelname)s {tag}%(name)s: %(message)s")
+    for handler in logging.getLogger().handlers:
+        handler.setFormatter(fmt)

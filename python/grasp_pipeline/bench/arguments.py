@@ -57,12 +57,22 @@ def _scene_benchmark(p: argparse.ArgumentParser, scenes: int, workers: int, work
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
+def _jobs_per_worker(p: argparse.ArgumentParser) -> None:
+    """``--jobs-per-worker`` of the benchmarks that run simulated jobs on local workers."""
+    from .jobs import SIM_JOBS_PER_WORKER
+
+    p.add_argument("--jobs-per-worker", type=positive_int, default=SIM_JOBS_PER_WORKER, metavar="N",
+                   help=f"jobs a local worker process runs one after the other, each as in a fresh "
+                        f"process (default {SIM_JOBS_PER_WORKER}; 1: a new process per job)")
+
+
 def grasp(p: argparse.ArgumentParser) -> None:
     _scene_benchmark(p, scenes=100, workers=1, workers_help="worker processes (one thread each)",
                      out="out/bench_grasp", out_help="folder for summary.md, plots and per-scene reports")
     p.add_argument("--scene-timeout", type=positive_float, default=1800.0, metavar="S",
                    help="wall-clock limit of one scene in seconds (default 1800)")
     add_backend_options(p)
+    _jobs_per_worker(p)
     add_config_options(p, RUN_SECTIONS, ONE_TO_THREE_OBJECTS)
 
 
@@ -98,6 +108,7 @@ def clutter(p: argparse.ArgumentParser) -> None:
                         "round's folder: DIR/seed_<K>_round_<NNN>_scene_<S>.rrd (open one with "
                         "'rerun FILE.rrd'). Needs pip install 'grasp-pipeline[rerun]'")
     add_backend_options(p)
+    _jobs_per_worker(p)
     add_config_options(p, "scene_filter, obb, camera, sim, clutter, motion, scan, grasp, declutter, "
                        "grasp_bound", "clutter.objects_per_scene=3")
 

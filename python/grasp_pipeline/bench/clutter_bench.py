@@ -50,7 +50,7 @@ from ..report.serialize import check_writable, check_writable_dir
 from .clutter_result import ClutterBenchResult, ObjectSuccess, RatePair, RoundRecord, SeedCounts
 from .clutter_round import clutter_settings, run_round
 from .figures import failures_by_stage, rate, stats
-from .jobs import JobSpec, worker_env
+from .jobs import SIM_JOBS_PER_WORKER, JobSpec, worker_env
 from .scheduler import run_jobs
 from .seeds import scene_seed
 
@@ -177,7 +177,7 @@ def _postfix(records: list[RoundRecord]) -> str:
 
 
 ROUND_JOBS = JobSpec(run_fn=_run_task, failed_fn=_failed_round, postfix_fn=_postfix,
-                     desc="bench clutter", tag="round")
+                     desc="bench clutter", tag="round", jobs_per_worker=SIM_JOBS_PER_WORKER)
 
 
 def _tasks(protocol: str, objects: str, rounds: int, seeds: list[int], out: Path,
@@ -239,10 +239,13 @@ def run_clutter_benchmark(protocol: str = "packed", objects: str = "builtin", ro
                           out_dir: str | Path = "out/bench_clutter", progress: bool = True,
                           round_timeout_s: float = 3600.0, overrides: tuple = (None, ()),
                           backend: str = "local", address: Optional[str] = None,
-                          rerun_dir: str | Path | None = None) -> ClutterBenchResult:
+                          rerun_dir: str | Path | None = None,
+                          jobs_per_worker: int = SIM_JOBS_PER_WORKER) -> ClutterBenchResult:
     """Run the benchmark; write the JSON (``json_path``), ``OUT/summary.md`` and plots.
     ``backend``: ``"local"`` (spawned processes) or ``"ray"`` (``address``: a cluster's);
     ``rerun_dir``: also one Rerun recording per round there (``<round folder name>.rrd``).
+    ``jobs_per_worker``: rounds a local worker process runs one after the other (each as in a
+    fresh process; 1: a new process per round).
     ``status``: complete, partial, failed (no round ran to its end) or interrupted (Ctrl-C /
     SIGTERM at any phase — loading the objects, simulating, writing: the JSON says so, then
     KeyboardInterrupt is raised)."""
@@ -263,7 +266,8 @@ def run_clutter_benchmark(protocol: str = "packed", objects: str = "builtin", ro
         try:
             notes = _check_objects(protocol, objects)
             phase = "simulating"
-            rows, interrupted = run_jobs(tasks, ROUND_JOBS, min(workers, len(tasks)), round_timeout_s,
+            jobs = dataclasses.replace(ROUND_JOBS, jobs_per_worker=int(jobs_per_worker))
+            rows, interrupted = run_jobs(tasks, jobs, min(workers, len(tasks)), round_timeout_s,
                                          progress, backend, address)
         except KeyboardInterrupt:
             interrupted = True

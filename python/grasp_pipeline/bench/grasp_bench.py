@@ -45,7 +45,7 @@ from .accuracy import ACCURACY_METRICS
 from .failure_reasons import exception_category, reason_category
 from .grasp_aggregate import aggregate
 from .grasp_result import GraspBenchResult
-from .jobs import JobSpec, worker_env
+from .jobs import SIM_JOBS_PER_WORKER, JobSpec, worker_env
 from .scheduler import run_jobs
 from .seeds import scene_seed
 
@@ -237,7 +237,7 @@ def _postfix(records: list[SceneRecord]) -> str:
 
 #: How the scheduler runs the scenes of this benchmark.
 SCENE_JOBS = JobSpec(run_fn=_run_task, failed_fn=_failed_task, postfix_fn=_postfix, desc="bench grasp",
-                     tag="scene")
+                     tag="scene", jobs_per_worker=SIM_JOBS_PER_WORKER)
 
 
 def _failed_record(index: int, seed: int, error: str, wall_s: float,
@@ -254,7 +254,8 @@ def run_grasp_benchmark(scenes: int, seed: int = 0, workers: int = 1, json_path:
                         out_dir: str | Path = "out/bench_grasp", progress: bool = True,
                         scene_timeout_s: float = DEFAULT_SCENE_TIMEOUT_S,
                         overrides: tuple = (None, ()), backend: str = "local",
-                        address: Optional[str] = None) -> GraspBenchResult:
+                        address: Optional[str] = None,
+                        jobs_per_worker: int = SIM_JOBS_PER_WORKER) -> GraspBenchResult:
     """Run the benchmark; write the JSON (``json_path``), ``OUT/summary.md`` and plots.
 
     ``overrides``: ``(config_file, [name=value, ...])`` applied to every scene's settings;
@@ -279,7 +280,8 @@ def run_grasp_benchmark(scenes: int, seed: int = 0, workers: int = 1, json_path:
         try:
             tasks = _scene_tasks(scenes, seed, out, overrides)
             phase = "simulating"
-            records, interrupted = run_jobs([(*t, overrides) for t in tasks], SCENE_JOBS, workers_used,
+            jobs = replace(SCENE_JOBS, jobs_per_worker=int(jobs_per_worker))
+            records, interrupted = run_jobs([(*t, overrides) for t in tasks], jobs, workers_used,
                                             scene_timeout_s, progress, backend, address)
         except KeyboardInterrupt:
             interrupted = True

@@ -37,6 +37,22 @@ class JobSpec:
     postfix_fn: Callable = lambda records: ""
     desc: str = "bench"
     tag: str = "job"       # log lines of a worker start with "[<tag> <index>] "
+    jobs_per_worker: int = 1  # jobs a worker process runs one after the other (1: a fresh process each)
+
+
+#: Jobs per worker process of the simulated benchmarks: the start-up (interpreter, imports,
+#: about a second of CPU) is paid once per this many rounds or scenes; a bound, so that
+#: whatever a long series of jobs might accumulate in one process stays small.
+SIM_JOBS_PER_WORKER = 10
+
+
+def begin_job() -> None:
+    """Put this worker process in the state a fresh process has for its next job: OMPL's
+    random generator is seeded again by the job's first planner (every other input of a job
+    is built by the job)."""
+    from ..motion.planner import reseed_next_planner
+
+    reseed_next_planner()
 
 
 def worker_env() -> dict:
@@ -48,8 +64,10 @@ def worker_env() -> dict:
     return env
 
 
-def add_process_cpu(rec: dict) -> None:
-    """CPU seconds of this whole job process (start-up and imports included, all threads):
-    what the job costs on an otherwise idle core, whatever else loads the machine."""
+def add_process_cpu(rec: dict, since_s: float = 0.0) -> None:
+    """CPU seconds the job cost its process (all threads), from ``since_s`` (the process CPU
+    time when the worker's previous job ended; 0: the process start, so the first job of a
+    worker carries the start-up and imports): what the job costs on an otherwise idle core,
+    whatever else loads the machine."""
     if isinstance(rec.get("timings"), dict):
-        rec["timings"]["process_cpu_s"] = time.process_time()
+        rec["timings"]["process_cpu_s"] = time.process_time() - since_s

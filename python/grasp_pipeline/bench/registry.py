@@ -80,7 +80,8 @@ def _grasp(args: argparse.Namespace):
     return run_grasp_benchmark(scenes=args.scenes, seed=args.seed, workers=args.workers, json_path=args.json,
                                out_dir=args.out, progress=not args.no_progress,
                                scene_timeout_s=args.scene_timeout, overrides=_overrides(args),
-                               backend=args.backend, address=args.address)
+                               backend=args.backend, address=args.address,
+                               jobs_per_worker=args.jobs_per_worker)
 
 
 def _report_grasp(result: Any, args: argparse.Namespace) -> int:
@@ -110,7 +111,8 @@ def _clutter(args: argparse.Namespace):
                                  seeds=args.seed, workers=args.workers, json_path=args.json,
                                  out_dir=args.out, progress=not args.no_progress,
                                  round_timeout_s=args.round_timeout, overrides=_overrides(args),
-                                 backend=args.backend, address=args.address, rerun_dir=args.rerun)
+                                 backend=args.backend, address=args.address, rerun_dir=args.rerun,
+                                 jobs_per_worker=args.jobs_per_worker)
 
 
 def _report_clutter(result: Any, args: argparse.Namespace) -> int:

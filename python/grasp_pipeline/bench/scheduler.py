@@ -1,23 +1,27 @@
-"""Benchmark jobs in freshly spawned processes, W at a time, with a progress bar.
+"""Benchmark jobs in spawned worker processes, W at a time, with a progress bar.
 
-Used by ``bench grasp`` (one job = one scene) and ``bench clutter`` (one job = one round).
+Used by ``bench grasp`` (one job = one scene), ``bench clutter`` (one job = one round),
+``record`` and ``eval``.
 
-Every job runs in its **own** freshly spawned process (``multiprocessing`` "spawn" start
-method — MuJoCo's EGL/OSMesa contexts must not be forked), at most ``W`` at a time. A fresh
-process per job matters for determinism: OMPL's random generator is seeded once per process,
-so a worker that ran an earlier job would plan the next one from a different random state,
-and the results would depend on the scheduling. Children inherit ``MUJOCO_GL`` (the parent's
-choice, see :mod:`grasp_pipeline.sim.gl_backend`) and ``PYTHONPATH``, and are limited to one
-thread each (``OMP_NUM_THREADS=1`` and the BLAS equivalents), so ``W`` workers use ``W``
-cores. A job whose function raises is the function's business (it should return a failed
-record); a child that dies (signal, segfault) or exceeds ``timeout_s`` is recorded through
-``failed_fn`` and the benchmark goes on. Ctrl-C / SIGTERM stops the running jobs — SIGINT first
-(unless Ctrl-C reached them already), so each run holds its arm and writes its report saying
-interrupted, then SIGKILL for what still runs after :data:`STOP_GRACE_S` — and returns the
-records finished so far. What a job is (:class:`~.jobs.JobSpec`) and the workers' environment:
-:mod:`.jobs`.
+Jobs run in worker processes started with ``multiprocessing``'s "spawn" method (MuJoCo's
+EGL/OSMesa contexts must not be forked), at most ``W`` at a time. A worker runs up to
+``JobSpec.jobs_per_worker`` jobs one after the other (1: a fresh process per job), so the
+interpreter start-up and the imports are paid once per worker, not once per job. Each job
+starts from the state a fresh process would have for it: :func:`.jobs.begin_job` re-seeds OMPL
+(whose random generator is otherwise seeded once per process — a worker that ran an earlier
+job would plan the next one from a different random state), and everything else a job uses is
+built by the job itself; the benchmark tests compare reused workers with fresh processes.
+A worker whose job failed, crashed or timed out is never reused. Children inherit
+``MUJOCO_GL`` (the parent's choice, see :mod:`grasp_pipeline.sim.gl_backend`) and
+``PYTHONPATH``, and are limited to one thread each (``OMP_NUM_THREADS=1`` and the BLAS
+equivalents), so ``W`` workers use ``W`` cores. A job whose function raises is the function's
+business (it should return a failed record); a child that dies (signal, segfault) or exceeds
+``timeout_s`` is recorded through ``failed_fn`` and the benchmark goes on. Ctrl-C / SIGTERM
+stops the running jobs — SIGINT first (unless Ctrl-C reached them already), so each run holds
+its arm and writes its report saying interrupted, then SIGKILL for what still runs after
+:data:`STOP_GRACE_S` — and returns the records finished so far. What a job is
+(:class:`~.jobs.JobSpec`) and the workers' environment: :mod:`.jobs`.
 """
-
 from __future__ import annotations
 
 import logging
@@ -26,10 +30,11 @@ import signal
 import sys
 import time
 from contextlib import contextmanager
+from dataclasses import dataclass
 from typing import Optional
 
 from ..signals import interrupts_raise
-from .jobs import JobSpec, add_process_cpu, worker_env
+from .jobs import JobSpec, add_process_cpu, begin_job, worker_env
 
 log = logging.getLogger(__name__)
 
@@ -55,103 +60,164 @@ def child_environment(extra: dict):
                 os.environ[k] = v
 
 
-def _child_main(conn, run_fn, task: tuple, log_level: int, tag: str) -> None:
-    """Entry point of a spawned job process: run the job, send the record, exit."""
-    from ..logs import setup_logging
+def _worker_main(conn, run_fn, log_level: int, tag: str) -> None:
+    """Entry point of a spawned worker: run the jobs it is sent, one at a time, until it is sent
+    ``None``; each job's record goes back with the CPU time the job cost this process."""
+    from ..logs import retag_logging, setup_logging
 
-    setup_logging(log_level, tag=f"[{tag} {task[0]}] ")
+    setup_logging(log_level, tag=f"[{tag}] ")
+    cpu_before = 0.0  # the first job carries the start-up (interpreter, imports)
     try:
-        with interrupts_raise():  # counted, so an interrupt a library turns into an error stays one
-            rec = run_fn(task)
-    except BaseException as exc:  # (run_fn should catch Exception; this is e.g. SystemExit)
-        rec = {"index": task[0], "error": f"{type(exc).__name__}: {exc}", "crashed": True}
-    add_process_cpu(rec)
-    conn.send(rec)
-    conn.close()
+        while (task := conn.recv()) is not None:
+            retag_logging(f"[{tag} {task[0]}] ")
+            begin_job()
+            try:
+                with interrupts_raise():  # counted: an interrupt a library turns into an error stays one
+                    rec = run_fn(task)
+            except BaseException as exc:  # (run_fn should catch Exception; this is e.g. SystemExit)
+                rec = {"index": task[0], "error": f"{type(exc).__name__}: {exc}", "crashed": True}
+            add_process_cpu(rec, since_s=cpu_before)
+            cpu_before = time.process_time()
+            conn.send(rec)
+    except (EOFError, OSError, KeyboardInterrupt):  # the parent is gone, or Ctrl-C between jobs
+        pass
+    finally:
+        conn.close()
+
+
+@dataclass
+class _Worker:
+    """One worker process, its end of the pipe, the job it runs (``task``, started at ``t0``,
+    perf_counter) and how many jobs it was given."""
+
+    proc: object
+    conn: object
+    task: Optional[tuple] = None
+    t0: float = 0.0
+    jobs: int = 0
+
+    def give(self, task: tuple) -> None:
+        self.conn.send(task)
+        self.task, self.t0 = task, time.perf_counter()
+        self.jobs += 1
+
+    def retire(self, timeout_s: float = 10.0) -> None:
+        """Tell it to exit (after its current job, if any) and wait; kill it if it does not."""
+        try:
+            self.conn.send(None)
+        except (OSError, ValueError):
+            pass
+        self.proc.join(timeout=timeout_s)
+        if self.proc.is_alive():
+            self.proc.kill()
+            self.proc.join(timeout=10)
+        self.conn.close()
 
 
 class _Scheduler:
-    """The running job processes and their bookkeeping: ``running`` maps each process's
-    sentinel to ``(proc, conn, task, t0)``; finished records go to ``results``."""
+    """The worker processes and their bookkeeping: ``running`` maps each busy worker's
+    sentinel to its :class:`_Worker`; ``idle`` holds workers that may take another job
+    (``spec.jobs_per_worker``); finished records go to ``results``."""
 
     def __init__(self, ctx, spec: JobSpec, timeout_s: float, bar):
         self.ctx, self.spec, self.timeout_s, self.bar = ctx, spec, timeout_s, bar
         self.running: dict = {}
+        self.idle: list[_Worker] = []
         self.results: list[dict] = []
         self.level = logging.getLogger().getEffectiveLevel()
         self.env = worker_env()
 
-    def start(self, task: tuple) -> None:
-        recv, send = self.ctx.Pipe(duplex=False)
-        proc = self.ctx.Process(target=_child_main, args=(send, self.spec.run_fn, task, self.level, self.spec.tag),
-                                name=f"{self.spec.desc}-{task[0]}", daemon=True)
+    def _spawn(self) -> _Worker:
+        here, there = self.ctx.Pipe(duplex=True)
+        proc = self.ctx.Process(target=_worker_main, args=(there, self.spec.run_fn, self.level, self.spec.tag),
+                                name=f"{self.spec.desc}-worker", daemon=True)
         with child_environment(self.env):
             proc.start()
-        send.close()  # the child holds the only writer: EOF when it dies
-        self.running[proc.sentinel] = (proc, recv, task, time.perf_counter())
+        there.close()  # the child holds the only other end: EOF when it dies
+        return _Worker(proc, here)
 
-    def finish(self, sentinel, rec: dict) -> None:
-        proc, conn, _task, _t0 = self.running.pop(sentinel)
-        conn.close()
-        proc.join(timeout=10)
+    def start(self, task: tuple) -> None:
+        worker = self.idle.pop() if self.idle else self._spawn()
+        worker.give(task)
+        self.running[worker.proc.sentinel] = worker
+
+    def finish(self, sentinel, rec: dict, reusable: bool = False) -> None:
+        """Record ``rec``; the worker waits for another job when ``reusable`` and it has jobs
+        left, else it is retired (a failed or crashed job's process is never reused)."""
+        worker = self.running.pop(sentinel)
+        if reusable and worker.jobs < self.spec.jobs_per_worker and not rec.get("error"):
+            worker.task = None
+            self.idle.append(worker)
+        else:
+            worker.retire()
         self.results.append(rec)
         self.bar.set_postfix_str(self.spec.postfix_fn(self.results))
         self.bar.update(1)
 
     def collect_ready(self) -> None:
-        """Wait until a job sends its record or exits, or the next deadline passes."""
+        """Wait until a job sends its record or its process exits, or the next deadline passes."""
         from multiprocessing.connection import wait
 
         now = time.perf_counter()
-        next_deadline = min(t0 + self.timeout_s for (_p, _c, _t, t0) in self.running.values())
+        next_deadline = min(w.t0 + self.timeout_s for w in self.running.values())
         by_obj = {}
-        for sentinel, (_p, conn, _t, _t0) in self.running.items():
+        for sentinel, worker in self.running.items():
             by_obj[sentinel] = sentinel
-            by_obj[conn] = sentinel
+            by_obj[worker.conn] = sentinel
         for obj in wait(list(by_obj), timeout=max(0.0, next_deadline - now) + 0.05):
             sentinel = by_obj[obj]
             if sentinel in self.running:  # (its conn and sentinel may both be ready)
-                rec = self._result_of(sentinel)
+                rec, alive = self._result_of(sentinel)
                 if rec is not None:
-                    self.finish(sentinel, rec)
+                    self.finish(sentinel, rec, reusable=alive)
 
-    def _result_of(self, sentinel) -> Optional[dict]:
-        """What a ready job sent; a failed record when its process exited without one; None
-        when it is still running."""
-        proc, conn, task, t0 = self.running[sentinel]
+    def _result_of(self, sentinel) -> tuple[Optional[dict], bool]:
+        """What a ready job sent (and whether its worker lives on); a failed record when its
+        process exited without one; ``(None, True)`` when it is still running."""
+        worker = self.running[sentinel]
+        task, t0 = worker.task, worker.t0
         rec = None
         try:
-            if conn.poll():
-                rec = conn.recv()
+            if worker.conn.poll():
+                rec = worker.conn.recv()
         except (EOFError, OSError):
             rec = None
         if rec is not None and rec.get("crashed"):
-            return self.spec.failed_fn(task, rec["error"], time.perf_counter() - t0)
+            return self.spec.failed_fn(task, rec["error"], time.perf_counter() - t0), False
         if rec is None:
-            proc.join(timeout=30)  # no result: the child closed its end or exited
-            if proc.exitcode is None:
-                return None
-            err = f"WorkerDied: the job process exited with code {proc.exitcode} without a result"
+            worker.proc.join(timeout=30)  # no result: the child closed its end or exited
+            if worker.proc.exitcode is None:
+                return None, True
+            err = f"WorkerDied: the job process exited with code {worker.proc.exitcode} without a result"
             log.error("job %d: %s", task[0], err)
-            rec = self.spec.failed_fn(task, err, time.perf_counter() - t0)
-        return rec
+            return self.spec.failed_fn(task, err, time.perf_counter() - t0), False
+        return rec, True
 
     def kill_overdue(self) -> None:
         now = time.perf_counter()
-        for sentinel, (proc, _conn, task, t0) in list(self.running.items()):
-            if now - t0 > self.timeout_s:
-                proc.kill()
+        for sentinel, worker in list(self.running.items()):
+            if now - worker.t0 > self.timeout_s:
+                worker.proc.kill()
                 err = f"Timeout: the job took longer than {self.timeout_s:.0f} s wall time"
-                log.error("job %d: %s", task[0], err)
-                self.finish(sentinel, self.spec.failed_fn(task, err, now - t0))
+                log.error("job %d: %s", worker.task[0], err)
+                self.finish(sentinel, self.spec.failed_fn(worker.task, err, now - worker.t0))
 
     def stop_all(self, grace_s: float = STOP_GRACE_S) -> None:
-        """Stop the running jobs cleanly, then kill what still runs: jobs that got the user's
-        Ctrl-C themselves (the whole process group does) get a moment to end on their own, the
-        others SIGINT (a run holds the arm and writes its report saying interrupted) and
-        ``grace_s`` to end."""
+        """Retire the idle workers and stop the running jobs cleanly, then kill what still
+        runs: jobs that got the user's Ctrl-C themselves (the whole process group does) get a
+        moment to end on their own, the others SIGINT (a run holds the arm and writes its
+        report saying interrupted) and ``grace_s`` to end."""
+        for worker in self.idle:
+            worker.retire()
+        self.idle.clear()
+        for worker in self.running.values():
+            try:
+                worker.conn.send(None)  # exit after the current job
+            except (OSError, ValueError):
+                pass
         waited = self._join_all(min(OWN_SIGNAL_WAIT_S, grace_s))
-        for proc, _conn, _task, _t0 in self.running.values():
+        for worker in self.running.values():
+            proc = worker.proc
             if waited and proc.is_alive() and proc.pid is not None:
                 try:
                     os.kill(proc.pid, signal.SIGINT)
@@ -159,19 +225,19 @@ class _Scheduler:
                     pass
         if waited:
             self._join_all(grace_s)
-        for proc, conn, _task, _t0 in self.running.values():
-            if proc.is_alive():
-                proc.kill()
-                proc.join(timeout=10)
-            conn.close()
+        for worker in self.running.values():
+            if worker.proc.is_alive():
+                worker.proc.kill()
+                worker.proc.join(timeout=10)
+            worker.conn.close()
 
     def _join_all(self, timeout_s: float) -> bool:
         """Wait up to ``timeout_s`` for the jobs to exit; False when a second Ctrl-C / SIGTERM
         cut the wait short (then nothing more is waited for)."""
         deadline = time.perf_counter() + timeout_s
         try:
-            for proc, _conn, _task, _t0 in self.running.values():
-                proc.join(timeout=max(0.0, deadline - time.perf_counter()))
+            for worker in self.running.values():
+                worker.proc.join(timeout=max(0.0, deadline - time.perf_counter()))
         except KeyboardInterrupt:
             return False
         return True

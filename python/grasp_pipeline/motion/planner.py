@@ -35,10 +35,31 @@ log = logging.getLogger(__name__)
 _SEEDED = False
 
 
+def reseed_next_planner() -> None:
+    """Make the next :class:`JointPlanner` seed OMPL again, as in a fresh process: a worker
+    process that runs one job after another calls this before each job, so that every job
+    plans from the same random state as in a process of its own."""
+    global _SEEDED
+    _SEEDED = False
+
+
 def _path(wp: np.ndarray, t0: float, c0: float, method: str, attempts: int, checked: int) -> JointPath:
     """The result with its wall time since ``t0`` (perf_counter) and thread CPU since ``c0``."""
     return JointPath(wp, (time.perf_counter() - t0) * 1e3, method, attempts, checked,
                      (time.thread_time() - c0) * 1e3)
+
+
+def _seed_ompl(ou, seed: int) -> None:
+    """Seed OMPL's generator of per-sampler seeds. Seeding it again (a worker's next job)
+    restarts the same sequence; OMPL then logs an error meant for code that seeds mid-run, which
+    does not apply here and is silenced. Seed 0 is passed as 1: OMPL seeds with 1 when first
+    given 0, but ignores a later 0."""
+    level = ou.getLogLevel()
+    ou.setLogLevel(ou.LOG_NONE)
+    try:
+        ou.RNG.setSeed(seed or 1)
+    finally:
+        ou.setLogLevel(level)
 
 
 class JointPlanner:
@@ -50,7 +71,7 @@ class JointPlanner:
         global _SEEDED
         _, _, ou = import_ompl()
         if config.random_seed >= 0 and not _SEEDED:
-            ou.RNG.setSeed(int(config.random_seed))  # OMPL accepts the seed once per process
+            _seed_ompl(ou, int(config.random_seed))
             _SEEDED = True
 
     def plan(self, q_start: np.ndarray, q_goal: np.ndarray) -> JointPath:
