@@ -196,3 +196,22 @@ def test_the_settings_are_read_once_so_an_edit_during_the_run_cannot_break_its_s
                                       out_dir=tmp_path / "out", progress=False)
     assert len(calls) == 1 and result.status == "complete"
     assert json.loads(json_path.read_text())["rounds_requested"] == 1
+
+
+def _moves(result) -> list:
+    """What each round did: its seed, every attempt's object, outcome and message, its
+    simulated seconds."""
+    return [(r["seed"], [(a["object"], a["success"], a.get("message")) for a in r["attempts"]],
+             r["timings"].get("run_sim_s")) for r in to_jsonable(result)["round_rows"]]
+
+
+def test_rounds_in_one_worker_are_the_rounds_of_fresh_processes(tmp_path):
+    """Two rounds run by one worker process one after the other make the same moves, attempt
+    for attempt and to the simulated second, as each round in a process of its own."""
+    kwargs = dict(protocol="sparse", rounds=2, seeds=(7,), json_path=None, progress=False,
+                  overrides=(None, ("sim.object_count=[2,2]",)))
+    fresh = cb.run_clutter_benchmark(out_dir=tmp_path / "fresh", jobs_per_worker=1, **kwargs)
+    reused = cb.run_clutter_benchmark(out_dir=tmp_path / "reused", jobs_per_worker=2, **kwargs)
+    assert fresh.status == reused.status == "complete"
+    assert sum(len(m[1]) for m in _moves(fresh)) >= 2
+    assert _moves(reused) == _moves(fresh)
