@@ -165,7 +165,7 @@ class FakeRobot:
 
 class FakeTrajectory:
     def __init__(self, T: np.ndarray, duration_s: float = 0.2) -> None:
-        self.T = T
+        self.T = np.array(T, dtype=float)  # a copy: the caller may reuse its matrix (as a bisection does)
         self.q = np.zeros((2, 7))
         self.duration_s = duration_s
 

@@ -7,7 +7,11 @@ PLACE (parameters: ``config/place.yaml``):
    (:mod:`.tray_spots`, on the tray's contents as the robot knows them, :mod:`.tray`);
 3. carry the object above a spot — the attitude it was held with, turned about the vertical
    (:func:`place_orientations`) — the next rotation or spot when that cannot be planned (the
-   held object is part of the planner's world, so the carry goes around what it would sweep);
+   held object is part of the planner's world, so the carry goes around what it would sweep).
+   It arrives as high as it was carried — above the first spot where the arm reaches that —
+   so that it crosses the tray's walls high and only goes down inside the tray (an object that
+   turned in the fingers since it was grasped hangs lower than the planner's model of it);
+   lower only where no spot can be reached so high;
 4. lower it until its bottom is ``release_clearance_m`` above what is under it, or as far as
    the planner lets the line go. It is never released higher than ``release_max_drop_m`` above
    what is under it: a lowering that stops higher (refused by the planner, or stopped by a
@@ -27,6 +31,7 @@ moving.
 from __future__ import annotations
 
 import logging
+from typing import Optional
 
 import numpy as np
 
@@ -147,23 +152,28 @@ def _support_z_m(tray: TrayContents, shape: HeldShape, T: np.ndarray) -> float:
     return tray.geometry.floor_z_m + (float(under.max()) if len(under) else 0.0)
 
 
-def _arrival_heights(action, shape: HeldShape, R: np.ndarray) -> list:
-    """TCP heights (world z) to arrive at over a spot: ``arrival_height_m`` above the floor,
-    or higher so that the object's bottom clears the walls and the contents by
-    ``hang_clearance_m``; then that lowest clearing height when the first is out of reach."""
+def _arrival_heights(action, shape: HeldShape, R: np.ndarray, carry_z_m: Optional[float]) -> list:
+    """TCP heights (world z) to arrive at over a spot, highest first: with ``carry_z_m`` (the
+    height it was carried at) that one alone, if the object's bottom clears the walls and
+    contents there; else ``arrival_height_m`` above the floor, or higher so that the object's
+    bottom clears them by ``hang_clearance_m``, then that lowest clearing height."""
     cfg, tray = action.place_config, tray_contents(action)
     top = max(tray.geometry.rim_m, float(tray.heights(tray.geometry.grid(cfg.spot_cell_m)).max()))
     low = shape.bottom_m(R) + top + cfg.hang_clearance_m
     floor_z = tray.geometry.floor_z_m
+    if carry_z_m is not None:
+        return [carry_z_m] if carry_z_m >= floor_z + low else []
     return sorted({floor_z + max(cfg.arrival_height_m, low), floor_z + low}, reverse=True)
 
 
-def _arrive(action, out: GraspOutcome, spot: Spot, shape: HeldShape, errors: list):
-    """Task: carry the object above ``spot`` (its free rotations, each at the arrival heights);
-    returns the pose reached, or None when none can be planned (reasons added to ``errors``)."""
+def _arrive(action, out: GraspOutcome, spot: Spot, shape: HeldShape, errors: list,
+            carry_z_m: Optional[float]):
+    """Task: carry the object above ``spot`` (its free rotations, each at the arrival heights
+    of :func:`_arrival_heights`); returns the pose reached, or None when none can be planned
+    (reasons added to ``errors``)."""
     motion = action.motion
     for R in spot.rotations:
-        for z in _arrival_heights(action, shape, R):
+        for z in _arrival_heights(action, shape, R, carry_z_m):
             T = np.eye(4)
             T[:3, :3], T[:3, 3] = R, [spot.xy[0], spot.xy[1], z]
             try:
@@ -258,20 +268,22 @@ def _put_down(action, out: GraspOutcome, spots: list, shape: HeldShape):
     """Task: arrive above the spots in turn and lower the object at them until one lets it go
     down low; returns (spot, pose above it)."""
     cfg = action.place_config
-    errors, notes, lowered = [], [], 0
-    for spot in spots:
-        T_above = yield from _arrive(action, out, spot, shape, errors)
-        if T_above is None:
-            continue
-        if (yield from _lower(action, out, T_above, shape, notes)):
-            return spot, T_above
-        lowered += 1
-        if lowered >= cfg.lower_attempts:
-            break
+    errors, notes, lowered = [], [], set()
+    carry_z = float(action.robot.tcp_pose()[2, 3])  # the height it is carried at
+    for height in (carry_z, None):  # as high as it was carried above any spot first
+        for k, spot in enumerate(spots):
+            if k in lowered or len(lowered) >= cfg.lower_attempts:
+                continue
+            T_above = yield from _arrive(action, out, spot, shape, errors, height)
+            if T_above is None:
+                continue
+            if (yield from _lower(action, out, T_above, shape, notes)):
+                return spot, T_above
+            lowered.add(k)
     if notes:
         raise PlacePlanningError(f"could not lower the object to within "
                                  f"{cfg.release_max_drop_m * 1e3:.0f} mm of what lies under it at "
-                                 f"{lowered} spot(s) of the tray: " + " | ".join(notes))
+                                 f"{len(lowered)} spot(s) of the tray: " + " | ".join(notes))
     raise PlacePlanningError(f"no way to carry the object above any of {len(spots)} free spot(s) "
                              "of the tray: " + " | ".join(errors[:4]))
 
