@@ -184,6 +184,7 @@ class GraspFitConfig:
     max_centroid_offset_m: float = 0.02
     min_open_margin_m: float = 0.008
     level_gap_m: float = 0.01
+    level_min_columns: int = 4
 
     RANGES: ClassVar[Mapping[str, Range]] = {
         "cloud_voxel_m": step_m(),
@@ -204,6 +205,7 @@ class GraspFitConfig:
         "max_centroid_offset_m": length_m(0.2),
         "min_open_margin_m": Range(0.0, OPENING_M.hi, lo_open=True, hi_open=True, unit=" m"),
         "level_gap_m": length_m(0.2),
+        "level_min_columns": count(1, 1000),
     }
 
     def validate(self) -> None:

@@ -164,7 +164,7 @@ class AnySideGraspSource:
         h = target.points @ n + c0
         u, v = plane_basis(n)
         levels = surface_levels(np.column_stack([target.points @ u, target.points @ v, h]),
-                                self.fit.footprint_cell_m, self.fit.level_gap_m)
+                                self.fit.footprint_cell_m, self.fit.level_gap_m, self.fit.level_min_columns)
         sub = frames.take(top_down)
         for level in levels[: self.config.step_levels]:
             # straight down, depth along the approach = c0 - height: the pads' lowest point

@@ -256,19 +256,29 @@ def check_line(own: np.ndarray, obstacles: np.ndarray, a0: float, contact_h: flo
     return LineCheck(False, "unreachable")
 
 
-def surface_levels(own: np.ndarray, cell_m: float, gap_m: float) -> list[float]:
+def surface_levels(own: np.ndarray, cell_m: float, gap_m: float, min_columns: int = 1) -> list[float]:
     """Heights of the lower steps of an object seen from above: the tops of the grid columns
-    of its points (``own``: local (c, a, h)), sorted; wherever two successive tops differ by
-    more than ``gap_m`` the lower one is a step (a box on a box merged into one cluster, a
-    bottle's shoulder). Highest step first."""
+    of its points (``own``: local (c, a, h)), sorted, each kept where at least ``min_columns``
+    tops (itself included) lie within a quarter of ``gap_m`` of it (the few tops of columns on
+    an upper box's sides, at any height between the levels, do not bridge a step); wherever
+    two successive kept tops differ by more than ``gap_m`` the lower one is a step (a box on a
+    box merged into one cluster, a bottle's shoulder). Highest step first."""
     ij = np.floor(own[:, :2] / cell_m).astype(np.int64)
     ij -= ij.min(axis=0)
     key = ij[:, 0] * (int(ij[:, 1].max()) + 1) + ij[:, 1]
     order = np.lexsort((own[:, 2], key))
     last = np.r_[key[order][1:] != key[order][:-1], True]
     tops = np.sort(own[order][last, 2])
+    tops = tops[_shared(tops, 0.25 * gap_m, min_columns)]
     gaps = np.nonzero(np.diff(tops) > gap_m)[0]
     return [float(tops[g]) for g in gaps[::-1]]
+
+
+def _shared(tops: np.ndarray, tol_m: float, n: int) -> np.ndarray:
+    """Mask of the sorted ``tops`` with at least ``n`` tops (itself included) within ``tol_m``."""
+    lo = np.searchsorted(tops, tops - tol_m, side="left")
+    hi = np.searchsorted(tops, tops + tol_m, side="right")
+    return hi - lo >= n
 
 
 def contact_height_m(height_m: float, hand: HandClearances, config: GraspConfig) -> float:
@@ -296,7 +306,7 @@ def _heights(track, own: np.ndarray, hand: HandClearances, grasp_cfg: GraspConfi
     if bottom > band_m + cfg.support_gap_m:
         out.append(contact_height_m(height - bottom, hand, grasp_cfg) + bottom)
     palm_over_top = height + grasp_cfg.palm_clearance_m - hand.palm_above_tcp_m
-    for level in surface_levels(own, cfg.footprint_cell_m, cfg.level_gap_m):
+    for level in surface_levels(own, cfg.footprint_cell_m, cfg.level_gap_m, cfg.level_min_columns):
         ch = max(level + grasp_cfg.table_clearance_m + hand.pad_below_tcp_m, palm_over_top)
         if ch <= height + hand.pad_below_tcp_m - cfg.min_pad_overlap_m and ch not in out:
             out.append(ch)

@@ -378,3 +378,18 @@ def test_a_fitted_descent_clears_a_neighbours_points_as_the_planner_measures_the
     z = max(need, 0.0) + np.linspace(0.0, 0.1, 41)
     d = planner_pts.distance_m(np.c_[np.full(len(z), x_m), np.zeros(len(z)), z])
     assert np.all(d - (r_m + margin_m) >= -1e-9)  # from the fit's height up, the planner agrees
+
+
+def test_a_few_side_column_tops_do_not_bridge_the_step_of_a_box_on_a_bar():
+    """A 30 mm cube (top 60 mm) on a bar (top 28 mm), seen as one cluster, with three columns
+    whose tops lie between the levels (points on the cube's sides): the bar's level is a step
+    when a level needs 4 columns; with every column counting the three bridge the gap."""
+    from grasp_pipeline.orchestration.grasping.fit import surface_levels
+
+    g = np.arange(0.0, 0.08, 0.005)
+    bar = np.array([(x, y, 0.028) for x in g for y in g[:12]])
+    cube = np.array([(x, y, 0.060) for x in g[5:11] for y in g[5:11]])
+    sides = np.array([(0.0205, 0.0705, 0.036), (0.0255, 0.0705, 0.044), (0.0305, 0.0705, 0.052)])
+    own = np.vstack([bar, cube, sides])
+    assert surface_levels(own, 0.005, 0.01, min_columns=4) == [pytest.approx(0.028)]
+    assert surface_levels(own, 0.005, 0.01, min_columns=1) == []
