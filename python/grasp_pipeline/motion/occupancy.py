@@ -100,6 +100,17 @@ def boxes_distance_m(boxes: list[OrientedBox], points: np.ndarray) -> np.ndarray
     return d
 
 
+def in_box(points: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """(N,) whether each point (N, 3) lies in the axis-aligned box ``lo``..``hi`` (bounds
+    included; a NaN coordinate is outside): ``np.all((points >= lo) & (points <= hi), axis=1)``,
+    column by column (several times faster than the reduction over the short axis)."""
+    inside = (points[:, 0] >= lo[0]) & (points[:, 0] <= hi[0])
+    for j in (1, 2):
+        inside &= points[:, j] >= lo[j]
+        inside &= points[:, j] <= hi[j]
+    return inside
+
+
 def _rows_where(points: np.ndarray, keep: np.ndarray) -> np.ndarray:
     """``points[keep]``, without the copy when every row is kept."""
     return points if keep.all() else points[keep]
@@ -174,9 +185,9 @@ class OccupancyMap:
         hi_ws = np.asarray(workspace_max_m, dtype=float)
         pts = pts.astype(float, copy=False)
         # a NaN or infinite coordinate fails the bounds check of a finite workspace box
-        if not (np.all(np.isfinite(lo_ws)) and np.all(np.isfinite(hi_ws))):
+        if not (np.all(np.isfinite(lo_ws)) and np.all(np.isfinite(hi_ws))) and not np.isfinite(pts).all():
             pts = _rows_where(pts, np.all(np.isfinite(pts), axis=1))
-        pts = _rows_where(pts, np.all((pts >= lo_ws) & (pts <= hi_ws), axis=1))
+        pts = _rows_where(pts, in_box(pts, lo_ws, hi_ws))
         if pts is points:
             pts = pts.copy()  # the map keeps its own points
         v = float(voxel_size_m)
@@ -184,8 +195,9 @@ class OccupancyMap:
         if len(pts) == 0:
             return cls(lo_ws, v, np.zeros((1, 1, 1), dtype=bool), pad_m, pts)
         idx = np.floor((pts - lo_ws) / v).astype(np.int64)
-        imin = idx.min(axis=0) - pad_vox
-        imax = idx.max(axis=0) + pad_vox
+        # column by column: a reduction along axis 0 of an (N, 3) array is many times slower
+        imin = np.array([idx[:, j].min() for j in range(3)]) - pad_vox
+        imax = np.array([idx[:, j].max() for j in range(3)]) + pad_vox
         shape = imax - imin + 1
         n_vox = int(np.prod(shape))
         if n_vox > max_voxels:
@@ -195,7 +207,7 @@ class OccupancyMap:
                 "crop the cloud or use a larger voxel_size_m")
         occ = np.zeros(tuple(shape), dtype=bool)
         rel = idx - imin
-        occ[rel[:, 0], rel[:, 1], rel[:, 2]] = True
+        occ.reshape(-1)[(rel[:, 0] * shape[1] + rel[:, 1]) * shape[2] + rel[:, 2]] = True
         origin = lo_ws + imin * v
         return cls(origin, v, occ, pad_m, pts)
 
