@@ -140,7 +140,22 @@ class TrajectoryTimer:
         if total - t_s[-1] > 1e-9:
             t_s = np.append(t_s, total)
         tau = np.minimum(t_s / k, duration)
-        q = np.asarray(traj(tau))
-        qd = np.asarray(traj(tau, 1)) / k
-        qdd = np.asarray(traj(tau, 2)) / (k * k)
-        return t_s, q, qd, qdd
+        q, qd, qdd = _evaluate(traj, tau)
+        return t_s, q, qd / k, qdd / (k * k)
+
+
+def _evaluate(traj, tau: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Joint positions, velocities and accelerations of the TOPP-RA trajectory ``traj`` at the
+    times ``tau``: ``traj(tau)``, ``traj(tau, 1)`` and ``traj(tau, 2)``.
+
+    A constant-acceleration parametrisation (``ParametrizeConstAccel``) finds the path
+    position, speed and acceleration of each time in a Python loop on every call: here that is
+    done once for the three, with the very formulas of its ``__call__`` (the same values)."""
+    eval_params, path = getattr(traj, "_eval_params", None), getattr(traj, "_path", None)
+    if eval_params is None or path is None:
+        return np.asarray(traj(tau)), np.asarray(traj(tau, 1)), np.asarray(traj(tau, 2))
+    ss, vs, us = eval_params(tau)
+    d1 = path(ss, 1)
+    qd = np.multiply(d1, vs[:, np.newaxis])
+    qdd = np.multiply(path(ss, 2), vs[:, np.newaxis] ** 2) + np.multiply(d1, us[:, np.newaxis])
+    return np.asarray(path(ss)), np.asarray(qd), np.asarray(qdd)
