@@ -265,7 +265,10 @@ class OccupancyMap:
         view._cleared_views = {}
         pts = self._points
         half = 0.5 * np.abs(box.R) @ box.extents + 2.0 * self.pad_m
-        pts = pts[np.all(np.abs(pts - box.center) <= half, axis=1)]
+        near = np.abs(pts[:, 0] - box.center[0]) <= half[0]  # column by column: the same test
+        for j in (1, 2):
+            near &= np.abs(pts[:, j] - box.center[j]) <= half[j]
+        pts = pts[near]
         pts = pts[~box.contains(pts)]
         # de-duplicate on a fine grid (its rounding is subtracted from the distances)
         f = cleared_cell_m(self.voxel_size_m)
