@@ -151,8 +151,14 @@ def _spot_cells(grid, contents_h: np.ndarray, heights: np.ndarray, inside: np.nd
     for du, dv in under:
         support = np.maximum(support, shifted(C, du, dv))
     ok &= np.isfinite(around) & (around <= support + tolerance_m)
-    for (du, dv), lim in zip(hand, limits):
-        ok &= shifted(H, du, dv) <= lim + support
+    # every hand cell's height is at most its limit plus the support: per distinct limit (the
+    # hand's spheres give a few), the highest of its cells is (max is exact: the same verdicts)
+    for lim in np.unique(limits):
+        cells = hand[limits == lim]
+        top = shifted(H, *cells[0]).copy()
+        for du, dv in cells[1:]:
+            np.maximum(top, shifted(H, du, dv), out=top)
+        ok &= top <= lim + support
     return ok, support
 
 
