@@ -82,8 +82,13 @@ class OrientedBox:
         return matmul_rows(np.asarray(points, dtype=float) - self.center, self.R)
 
     def contains(self, points: np.ndarray) -> np.ndarray:
-        """Boolean mask of the points (N, 3) inside the box."""
-        return np.all(np.abs(self.local(points)) <= 0.5 * self.extents, axis=-1)
+        """Boolean mask of the points (N, 3) inside the box (axis by axis: the test of
+        ``np.all(np.abs(local) <= 0.5 * extents, axis=-1)``, several times faster)."""
+        local, h = self.local(points), 0.5 * self.extents
+        inside = np.abs(local[..., 0]) <= h[0]
+        for j in (1, 2):
+            inside &= np.abs(local[..., j]) <= h[j]
+        return inside
 
     def distance_m(self, points: np.ndarray) -> np.ndarray:
         """Distance of each point (N, 3) to the box (0 inside)."""
@@ -109,6 +114,15 @@ def in_box(points: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         inside &= points[:, j] >= lo[j]
         inside &= points[:, j] <= hi[j]
     return inside
+
+
+def _sorted_unique(keys: np.ndarray) -> np.ndarray:
+    """``np.unique(keys)`` of a 1-D integer array, by a plain sort (several times faster)."""
+    keys = np.sort(keys)
+    first = np.empty(len(keys), dtype=bool)
+    first[:1] = True
+    np.not_equal(keys[1:], keys[:-1], out=first[1:])
+    return keys[first]
 
 
 def _rows_where(points: np.ndarray, keep: np.ndarray) -> np.ndarray:
@@ -274,10 +288,10 @@ class OccupancyMap:
         f = cleared_cell_m(self.voxel_size_m)
         if len(pts):
             ii = np.floor((pts - box.center) / f).astype(np.int64)
-            lo = ii.min(axis=0)
+            lo = np.array([ii[:, j].min() for j in range(3)])  # column by column: faster
             ii -= lo
-            dims = ii.max(axis=0) + 1
-            key = np.unique((ii[:, 0] * dims[1] + ii[:, 1]) * dims[2] + ii[:, 2])
+            dims = np.array([ii[:, j].max() for j in range(3)]) + 1
+            key = _sorted_unique((ii[:, 0] * dims[1] + ii[:, 1]) * dims[2] + ii[:, 2])
             ii = np.stack([key // (dims[1] * dims[2]), (key // dims[2]) % dims[1], key % dims[2]], axis=1)
             pts = box.center + (ii + lo + 0.5) * f
         view._cleared = (box, cKDTree(pts) if len(pts) else None)
