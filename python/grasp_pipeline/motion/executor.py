@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass, field
+from operator import sub
 
 import numpy as np
 
@@ -107,11 +108,12 @@ class TrajectoryExecutor:
             rep.duration_s = float(w.time_s - t_start)
             if wait_settled:
                 q_final = traj.q[-1]
+                q_final_list = q_final.tolist()
                 t_limit = w.time_s + cfg.settle_timeout_s
                 while True:
-                    err = float(np.max(np.abs(w.q - q_final)))
+                    err = max_abs_diff(w.q.tolist(), q_final_list)
                     if err <= cfg.settle_position_tol_rad and \
-                            float(np.max(np.abs(w.qd))) <= cfg.settle_velocity_tol_rad_s:
+                            max(map(abs, w.qd.tolist())) <= cfg.settle_velocity_tol_rad_s:
                         rep.settled = True
                         break
                     if w.time_s >= t_limit:
@@ -135,8 +137,9 @@ class TrajectoryExecutor:
         cfg = self.config
         w = self.world
         q_ref, _ = w.reference()
-        err = float(np.abs(q_ref - w.q).max())
-        rep.max_tracking_error_rad = max(rep.max_tracking_error_rad, err)
+        err = max_abs_diff(q_ref.tolist(), w.q.tolist())
+        if err > rep.max_tracking_error_rad:
+            rep.max_tracking_error_rad = err
         if err > cfg.tracking_error_limit_rad:
             self._stop("tracking", f"tracking error {err:.4f} rad exceeds {cfg.tracking_error_limit_rad} rad")
         bad = [c for c in w.unexpected_contacts(allowance) if c not in tolerated]
@@ -144,3 +147,10 @@ class TrajectoryExecutor:
             rep.contacts.extend(bad)
             if cfg.stop_on_contact:
                 self._stop("contact", f"unexpected robot contact {sorted(set(bad))}")
+
+
+def max_abs_diff(a: list, b: list) -> float:
+    """``max_j |a_j - b_j|`` of two lists of finite floats: the same value as numpy's
+    ``np.max(np.abs(a - b))`` (subtraction and ``abs`` round alike, the maximum is exact), at
+    a fraction of its cost on the seven joints (read at every physics step)."""
+    return max(map(abs, map(sub, a, b)))
