@@ -108,12 +108,11 @@ class TrajectoryExecutor:
             rep.duration_s = float(w.time_s - t_start)
             if wait_settled:
                 q_final = traj.q[-1]
-                q_final_list = q_final.tolist()
                 t_limit = w.time_s + cfg.settle_timeout_s
                 while True:
-                    err = max_abs_diff(w.q.tolist(), q_final_list)
+                    err = float(np.max(np.abs(w.q - q_final)))
                     if err <= cfg.settle_position_tol_rad and \
-                            max(map(abs, w.qd.tolist())) <= cfg.settle_velocity_tol_rad_s:
+                            float(np.max(np.abs(w.qd))) <= cfg.settle_velocity_tol_rad_s:
                         rep.settled = True
                         break
                     if w.time_s >= t_limit:
@@ -138,8 +137,7 @@ class TrajectoryExecutor:
         w = self.world
         q_ref, _ = w.reference()
         err = max_abs_diff(q_ref.tolist(), w.q.tolist())
-        if err > rep.max_tracking_error_rad:
-            rep.max_tracking_error_rad = err
+        rep.max_tracking_error_rad = max(rep.max_tracking_error_rad, err)
         if err > cfg.tracking_error_limit_rad:
             self._stop("tracking", f"tracking error {err:.4f} rad exceeds {cfg.tracking_error_limit_rad} rad")
         bad = [c for c in w.unexpected_contacts(allowance) if c not in tolerated]

@@ -20,6 +20,7 @@ Event types (all frozen dataclasses, times in simulated seconds):
 from __future__ import annotations
 
 import logging
+from collections import defaultdict
 from dataclasses import dataclass, field
 from typing import Any, Callable, Optional
 
@@ -92,30 +93,24 @@ Subscriber = Callable[[Any], None]
 
 @dataclass
 class EventBus:
-    """Publish/subscribe by event type (exact type match).
+    """Publish/subscribe by event type (exact type match)."""
 
-    Each type's subscribers are kept as a tuple that (un)subscribing replaces: publishing
-    (a :class:`Tick` at every physics step) walks the tuple it found without copying it, and a
-    subscriber added or removed meanwhile takes effect from the next event."""
-
-    _subs: dict = field(default_factory=dict)      # event type -> tuple of subscribers
+    _subs: dict = field(default_factory=lambda: defaultdict(list))
     failures: list = field(default_factory=list)   # "subscriber: error" of dropped subscribers
 
     def subscribe(self, event_type: type, fn: Subscriber) -> None:
-        self._subs[event_type] = self._subs.get(event_type, ()) + (fn,)
+        self._subs[event_type].append(fn)
 
     def unsubscribe(self, event_type: type, fn: Subscriber) -> None:
-        subs = list(self._subs.get(event_type, ()))
-        if fn in subs:
-            subs.remove(fn)
-            self._subs[event_type] = tuple(subs)
+        if fn in self._subs.get(event_type, []):
+            self._subs[event_type].remove(fn)
 
     def wants(self, event_type: type) -> bool:
         """True when someone listens (publishers skip building unwanted events)."""
         return bool(self._subs.get(event_type))
 
     def publish(self, event: Any) -> None:
-        for fn in self._subs.get(type(event), ()):
+        for fn in list(self._subs.get(type(event), ())):
             try:
                 fn(event)
             except Exception as exc:  # a recorder must never stop the robot

@@ -57,8 +57,7 @@ class Runtime:
         return task
 
     def step(self) -> None:
-        world = self.world
-        t_before = world.time_s
+        t_before = self.world.time_s
         for task in list(self.tasks):
             mark = signals.received()
             try:
@@ -72,10 +71,10 @@ class Runtime:
                 task.done, task.error = True, exc
             if task.done:
                 self.tasks.remove(task)
-        if world.time_s == t_before:
-            world.step(1)
+        if self.world.time_s == t_before:
+            self.world.step(1)
         if self.events.wants(Tick):
-            self.events.publish(Tick(float(world.time_s)))
+            self.events.publish(Tick(float(self.world.time_s)))
 
     @contextmanager
     def looking(self) -> Iterator[None]:
