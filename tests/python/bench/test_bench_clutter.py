@@ -206,8 +206,9 @@ def _moves(result) -> list:
 
 
 def test_rounds_in_one_worker_are_the_rounds_of_fresh_processes(tmp_path):
-    """Two rounds (one object each) run by one worker process one after the other make the same moves, attempt
-    for attempt and to the simulated second, as each round in a process of its own."""
+    """Two rounds (one object each) run by one worker process one after the other make the
+    same moves, attempt for attempt and to the simulated second, as each round in a process of
+    its own."""
     kwargs = dict(protocol="sparse", rounds=2, seeds=(7,), json_path=None, progress=False,
                   overrides=(None, ("sim.object_count=[1,1]",)))
     fresh = cb.run_clutter_benchmark(out_dir=tmp_path / "fresh", jobs_per_worker=1, **kwargs)
