@@ -1330,6 +1330,10 @@ def choose_table(planes: Sequence[PlaneCandidate], dominance: float) -> int:
     """
 def circular_median_mod_pi(angles_rad: Sequence[float], reference_rad: float) -> float:
     ...
+def depth_to_world_points(depth: numpy.typing.NDArray[numpy.float32], invalid: numpy.typing.NDArray[numpy.bool_], x: numpy.typing.NDArray[numpy.float32], y: numpy.typing.NDArray[numpy.float32], R: numpy.typing.NDArray[numpy.float32], t: numpy.typing.NDArray[numpy.float32]) -> numpy.typing.NDArray[numpy.float32]:
+    """
+    depth = NaN where invalid (in place), then the (H*W, 3) float32 world points ((R[i,0] x + R[i,1] y) + R[i,2]) depth + t[i], row v*W + u for pixel (u, v); R (3, 3) and t (3,) float32: the camera's world pose.
+    """
 def direction_runs(ext: Sequence[float], width_tol_m: float) -> list[DirectionRun]:
     ...
 def estimate_object(points: Points, plane: Plane, params: ObbParams, theta_prev: float | None = None, band: float | None = None, max_abs_coordinate_m: float = 1000.0) -> EstimateResult:
@@ -1357,6 +1361,10 @@ def fit_plane_ransac(points: Points, params: SceneFilterParams, seed: int = 0) -
 def in_plane_basis(n: Vec3Like) -> tuple[Vec3, Vec3]:
     """
     Deterministic (u, v) with u x v = n.
+    """
+def mask_invalid_and_grazing(depth: numpy.typing.NDArray[numpy.float32], invalid: numpy.typing.NDArray[numpy.bool_], x: numpy.typing.NDArray[numpy.float32], y: numpy.typing.NDArray[numpy.float32], ray_norm2: numpy.typing.NDArray[numpy.float32], fx: float, fy: float, cos2_max: float) -> None:
+    """
+    In place, on an (H, W) float32 depth and its (H, W) bool invalid mask: depth = NaN where invalid, then invalid |= grazing (a surface seen at more than the angle whose cos^2 is cos2_max). x (W,), y (H,): (u - cx) / fx and (v - cy) / fy; ray_norm2 (H, W): 1 + x^2 + y^2; all float32.
     """
 def median(values: Sequence[float]) -> float:
     """

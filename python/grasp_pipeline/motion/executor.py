@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass, field
+from operator import sub
 
 import numpy as np
 
@@ -135,7 +136,7 @@ class TrajectoryExecutor:
         cfg = self.config
         w = self.world
         q_ref, _ = w.reference()
-        err = float(np.abs(q_ref - w.q).max())
+        err = max_abs_diff(q_ref.tolist(), w.q.tolist())
         rep.max_tracking_error_rad = max(rep.max_tracking_error_rad, err)
         if err > cfg.tracking_error_limit_rad:
             self._stop("tracking", f"tracking error {err:.4f} rad exceeds {cfg.tracking_error_limit_rad} rad")
@@ -144,3 +145,10 @@ class TrajectoryExecutor:
             rep.contacts.extend(bad)
             if cfg.stop_on_contact:
                 self._stop("contact", f"unexpected robot contact {sorted(set(bad))}")
+
+
+def max_abs_diff(a: list, b: list) -> float:
+    """``max_j |a_j - b_j|`` of two lists of finite floats: the same value as numpy's
+    ``np.max(np.abs(a - b))`` (subtraction and ``abs`` round alike, the maximum is exact), at
+    a fraction of its cost on the seven joints (read at every physics step)."""
+    return max(map(abs, map(sub, a, b)))

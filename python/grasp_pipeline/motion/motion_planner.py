@@ -28,7 +28,7 @@ from .config import MotionConfig, load_motion_config
 from .exceptions import EnvironmentCloudError, GoalInCollisionError, PlanningFailedError
 from .ik import IKResult, PandaIK
 from .object_points import ObjectPoints, columns
-from .occupancy import OccupancyMap, OrientedBox, cell_rounding_m, cleared_cell_m
+from .occupancy import OccupancyMap, OrientedBox, cell_rounding_m, cleared_cell_m, in_box
 from .planner import JointPlanner
 from .poses import validate_joints, validate_pose
 from .robot_spheres import RobotSpheres
@@ -150,14 +150,13 @@ class MotionPlanner:
     def _self_filter(self, pts: np.ndarray, q: np.ndarray) -> np.ndarray:
         """The finite points ``pts`` (N, 3) outside the robot's spheres (+ the self-filter
         padding) with the arm at ``q``."""
-        finite = np.all(np.isfinite(pts), axis=1)
-        if not finite.all():
-            pts = pts[finite]
+        if not np.isfinite(pts).all():
+            pts = pts[np.all(np.isfinite(pts), axis=1)]
         C = self.robot.centres(q[None])[0]
         r = self.robot.spheres.radius + self.config.self_filter_padding_m
         lo, hi = C.min(0) - r.max(), C.max(0) + r.max()
-        near = np.all((pts >= lo) & (pts <= hi), axis=1)
-        if not np.any(near):
+        near = in_box(pts, lo, hi)
+        if not np.any(near) or not may_touch_spheres(pts[near], C, r):
             return pts
         from scipy.spatial import cKDTree
 
@@ -271,6 +270,45 @@ class MotionPlanner:
                 raise PlanningFailedError(f"timed trajectory sample is invalid: {v.explain(bad)}")
         finally:
             v.allow_target_contact = prev
+
+
+#: Cell [m] of the coarse grid that rules out points far from the robot's spheres.
+_SELF_FILTER_CELL_M = 0.05
+#: Slack [m] of that test: far above the rounding of any distance computed for the filter.
+_SELF_FILTER_SLACK_M = 1e-6
+#: Above this many candidate points the exact test is left to the k-d tree.
+_SELF_FILTER_MAX_CANDIDATES = 20000
+
+
+def may_touch_spheres(pts: np.ndarray, C: np.ndarray, r: np.ndarray) -> bool:
+    """Whether a point of ``pts`` (N, 3) may lie within a sphere (centres ``C`` (S, 3), radii
+    ``r`` (S,)). False is certain: every point is farther than its radius plus
+    :data:`_SELF_FILTER_SLACK_M` from every centre — so a radius search finds nothing, and the
+    self-filter keeps every point without building its k-d tree.
+
+    Points outside the coarse cells that the spheres' grown boxes touch are that far (the
+    boxes hold every point within a sphere's grown radius, and the rounded cell index of a
+    point is monotone in it); the few others are measured against every sphere."""
+    grow = r + _SELF_FILTER_SLACK_M
+    h = _SELF_FILTER_CELL_M
+    origin = C.min(0) - grow.max() - h
+    lo = np.floor((C - grow[:, None] - origin) / h).astype(np.int64)
+    hi = np.floor((C + grow[:, None] - origin) / h).astype(np.int64)
+    dims = np.array([hi[:, j].max() for j in range(3)]) + 1
+    marked = np.zeros(tuple(dims), dtype=bool)
+    for a, b in zip(lo, hi):
+        marked[a[0]:b[0] + 1, a[1]:b[1] + 1, a[2]:b[2] + 1] = True
+    k = np.floor((pts - origin) / h).astype(np.int64)
+    ok = in_box(k, np.zeros(3, dtype=np.int64), dims - 1)
+    ok[ok] = marked.reshape(-1)[(k[ok, 0] * dims[1] + k[ok, 1]) * dims[2] + k[ok, 2]]
+    cand = pts[ok]
+    if len(cand) > _SELF_FILTER_MAX_CANDIDATES:
+        return True
+    for start in range(0, len(cand), 2000):
+        d2 = np.sum((cand[start:start + 2000, None, :] - C[None]) ** 2, axis=-1)
+        if np.any(d2 <= grow ** 2):
+            return True
+    return False
 
 
 def _same_tops(a: list, b: list) -> bool:

@@ -82,8 +82,13 @@ class OrientedBox:
         return matmul_rows(np.asarray(points, dtype=float) - self.center, self.R)
 
     def contains(self, points: np.ndarray) -> np.ndarray:
-        """Boolean mask of the points (N, 3) inside the box."""
-        return np.all(np.abs(self.local(points)) <= 0.5 * self.extents, axis=-1)
+        """Boolean mask of the points (N, 3) inside the box (axis by axis: the test of
+        ``np.all(np.abs(local) <= 0.5 * extents, axis=-1)``, several times faster)."""
+        local, h = self.local(points), 0.5 * self.extents
+        inside = np.abs(local[..., 0]) <= h[0]
+        for j in (1, 2):
+            inside &= np.abs(local[..., j]) <= h[j]
+        return inside
 
     def distance_m(self, points: np.ndarray) -> np.ndarray:
         """Distance of each point (N, 3) to the box (0 inside)."""
@@ -98,6 +103,26 @@ def boxes_distance_m(boxes: list[OrientedBox], points: np.ndarray) -> np.ndarray
     for b in boxes:
         d = np.minimum(d, b.distance_m(points))
     return d
+
+
+def in_box(points: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """(N,) whether each point (N, 3) lies in the axis-aligned box ``lo``..``hi`` (bounds
+    included; a NaN coordinate is outside): ``np.all((points >= lo) & (points <= hi), axis=1)``,
+    column by column (several times faster than the reduction over the short axis)."""
+    inside = (points[:, 0] >= lo[0]) & (points[:, 0] <= hi[0])
+    for j in (1, 2):
+        inside &= points[:, j] >= lo[j]
+        inside &= points[:, j] <= hi[j]
+    return inside
+
+
+def _sorted_unique(keys: np.ndarray) -> np.ndarray:
+    """``np.unique(keys)`` of a 1-D integer array, by a plain sort (several times faster)."""
+    keys = np.sort(keys)
+    first = np.empty(len(keys), dtype=bool)
+    first[:1] = True
+    np.not_equal(keys[1:], keys[:-1], out=first[1:])
+    return keys[first]
 
 
 def _rows_where(points: np.ndarray, keep: np.ndarray) -> np.ndarray:
@@ -174,9 +199,9 @@ class OccupancyMap:
         hi_ws = np.asarray(workspace_max_m, dtype=float)
         pts = pts.astype(float, copy=False)
         # a NaN or infinite coordinate fails the bounds check of a finite workspace box
-        if not (np.all(np.isfinite(lo_ws)) and np.all(np.isfinite(hi_ws))):
+        if not (np.all(np.isfinite(lo_ws)) and np.all(np.isfinite(hi_ws))) and not np.isfinite(pts).all():
             pts = _rows_where(pts, np.all(np.isfinite(pts), axis=1))
-        pts = _rows_where(pts, np.all((pts >= lo_ws) & (pts <= hi_ws), axis=1))
+        pts = _rows_where(pts, in_box(pts, lo_ws, hi_ws))
         if pts is points:
             pts = pts.copy()  # the map keeps its own points
         v = float(voxel_size_m)
@@ -184,8 +209,9 @@ class OccupancyMap:
         if len(pts) == 0:
             return cls(lo_ws, v, np.zeros((1, 1, 1), dtype=bool), pad_m, pts)
         idx = np.floor((pts - lo_ws) / v).astype(np.int64)
-        imin = idx.min(axis=0) - pad_vox
-        imax = idx.max(axis=0) + pad_vox
+        # column by column: a reduction along axis 0 of an (N, 3) array is many times slower
+        imin = np.array([idx[:, j].min() for j in range(3)]) - pad_vox
+        imax = np.array([idx[:, j].max() for j in range(3)]) + pad_vox
         shape = imax - imin + 1
         n_vox = int(np.prod(shape))
         if n_vox > max_voxels:
@@ -195,7 +221,7 @@ class OccupancyMap:
                 "crop the cloud or use a larger voxel_size_m")
         occ = np.zeros(tuple(shape), dtype=bool)
         rel = idx - imin
-        occ[rel[:, 0], rel[:, 1], rel[:, 2]] = True
+        occ.reshape(-1)[(rel[:, 0] * shape[1] + rel[:, 1]) * shape[2] + rel[:, 2]] = True
         origin = lo_ws + imin * v
         return cls(origin, v, occ, pad_m, pts)
 
@@ -253,16 +279,19 @@ class OccupancyMap:
         view._cleared_views = {}
         pts = self._points
         half = 0.5 * np.abs(box.R) @ box.extents + 2.0 * self.pad_m
-        pts = pts[np.all(np.abs(pts - box.center) <= half, axis=1)]
+        near = np.abs(pts[:, 0] - box.center[0]) <= half[0]  # column by column: the same test
+        for j in (1, 2):
+            near &= np.abs(pts[:, j] - box.center[j]) <= half[j]
+        pts = pts[near]
         pts = pts[~box.contains(pts)]
         # de-duplicate on a fine grid (its rounding is subtracted from the distances)
         f = cleared_cell_m(self.voxel_size_m)
         if len(pts):
             ii = np.floor((pts - box.center) / f).astype(np.int64)
-            lo = ii.min(axis=0)
+            lo = np.array([ii[:, j].min() for j in range(3)])  # column by column: faster
             ii -= lo
-            dims = ii.max(axis=0) + 1
-            key = np.unique((ii[:, 0] * dims[1] + ii[:, 1]) * dims[2] + ii[:, 2])
+            dims = np.array([ii[:, j].max() for j in range(3)]) + 1
+            key = _sorted_unique((ii[:, 0] * dims[1] + ii[:, 1]) * dims[2] + ii[:, 2])
             ii = np.stack([key // (dims[1] * dims[2]), (key // dims[2]) % dims[1], key % dims[2]], axis=1)
             pts = box.center + (ii + lo + 0.5) * f
         view._cleared = (box, cKDTree(pts) if len(pts) else None)

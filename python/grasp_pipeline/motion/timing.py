@@ -52,6 +52,7 @@ class TrajectoryTimer:
         self.qd_limit = np.asarray(qd_max, dtype=float) * config.velocity_scale
         self.qdd_limit = np.asarray(qdd_max, dtype=float) * config.acceleration_scale
         self.dt_s = 1.0 / config.control_rate_hz
+        self._constraints_cache: tuple | None = None
 
     def time_path_stop_at_waypoints(self, path: JointPath | np.ndarray) -> JointTrajectory:
         """Time every segment separately (rest at each waypoint): the joints follow the
@@ -79,7 +80,6 @@ class TrajectoryTimer:
         config); smaller keeps the spline closer to the polyline at corners."""
         import toppra
         import toppra.algorithm as algo
-        import toppra.constraint as constraint
 
         jp = path if isinstance(path, JointPath) else None
         wp = np.asarray(path.waypoints if jp is not None else path, dtype=float)
@@ -101,12 +101,9 @@ class TrajectoryTimer:
             dense = np.vstack([dense[0], 0.5 * (dense[0] + dense[1]), dense[1]])
             ss = np.array([0.0, 0.5 * ss[-1], ss[-1]])
         geo = toppra.SplineInterpolator(ss, dense)
-        pc_vel = constraint.JointVelocityConstraint(np.stack([-self.qd_limit, self.qd_limit], axis=1))
-        pc_acc = constraint.JointAccelerationConstraint(
-            np.stack([-self.qdd_limit, self.qdd_limit], axis=1))
         n_grid = max(self.config.toppra_gridpoints, 2 * len(dense))
         grid = np.linspace(0.0, ss[-1], n_grid)
-        instance = algo.TOPPRA([pc_vel, pc_acc], geo, gridpoints=grid, parametrizer="ParametrizeConstAccel")
+        instance = algo.TOPPRA(self._constraints(), geo, gridpoints=grid, parametrizer="ParametrizeConstAccel")
         traj = instance.compute_trajectory(0.0, 0.0)
         if traj is None:
             raise TimeParameterizationError(
@@ -133,6 +130,21 @@ class TrajectoryTimer:
         ms = (time.perf_counter() - t0) * 1e3
         return JointTrajectory(t_s=t_s, q=q, qd=qd, qdd=qdd, timing_ms=ms, path=jp)
 
+    def _constraints(self) -> list:
+        """TOPP-RA's joint velocity and acceleration constraints of the scaled limits (made
+        once per pair of limits: they hold no state of a path, and building them costs more
+        than a short path's timing)."""
+        import toppra.constraint as constraint
+
+        key = (self.qd_limit.tobytes(), self.qdd_limit.tobytes())
+        cached = self._constraints_cache
+        if cached is None or cached[0] != key:
+            cached = (key, [
+                constraint.JointVelocityConstraint(np.stack([-self.qd_limit, self.qd_limit], axis=1)),
+                constraint.JointAccelerationConstraint(np.stack([-self.qdd_limit, self.qdd_limit], axis=1))])
+            self._constraints_cache = cached
+        return cached[1]
+
     def _sample(self, traj, duration: float, k: float):
         total = duration * k
         n = int(np.floor(total / self.dt_s + 1e-9))
@@ -140,7 +152,22 @@ class TrajectoryTimer:
         if total - t_s[-1] > 1e-9:
             t_s = np.append(t_s, total)
         tau = np.minimum(t_s / k, duration)
-        q = np.asarray(traj(tau))
-        qd = np.asarray(traj(tau, 1)) / k
-        qdd = np.asarray(traj(tau, 2)) / (k * k)
-        return t_s, q, qd, qdd
+        q, qd, qdd = _evaluate(traj, tau)
+        return t_s, q, qd / k, qdd / (k * k)
+
+
+def _evaluate(traj, tau: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Joint positions, velocities and accelerations of the TOPP-RA trajectory ``traj`` at the
+    times ``tau``: ``traj(tau)``, ``traj(tau, 1)`` and ``traj(tau, 2)``.
+
+    A constant-acceleration parametrisation (``ParametrizeConstAccel``) finds the path
+    position, speed and acceleration of each time in a Python loop on every call: here that is
+    done once for the three, with the very formulas of its ``__call__`` (the same values)."""
+    eval_params, path = getattr(traj, "_eval_params", None), getattr(traj, "_path", None)
+    if eval_params is None or path is None:
+        return np.asarray(traj(tau)), np.asarray(traj(tau, 1)), np.asarray(traj(tau, 2))
+    ss, vs, us = eval_params(tau)
+    d1 = path(ss, 1)
+    qd = np.multiply(d1, vs[:, np.newaxis])
+    qdd = np.multiply(path(ss, 2), vs[:, np.newaxis] ** 2) + np.multiply(d1, us[:, np.newaxis])
+    return np.asarray(path(ss)), np.asarray(qd), np.asarray(qdd)

@@ -11,8 +11,10 @@ Choices (ours):
   context around them (environment points outside are not drawn, so a far wall or the floor
   cannot shrink the objects to dots); without objects, the environment's 1st–99th percentiles.
 - Speed: at most ``max_environment_points`` (20 000) environment and ``max_object_points``
-  (20 000) object points are drawn, picked with a fixed stride (deterministic). A 307 k-point
-  frame renders in well under 2 s.
+  (20 000) object points are drawn, picked with a fixed stride (deterministic); at most
+  ``MAX_TICK_INTERVALS`` tick intervals per axis (steps of 1, 2 or 5 x 10^k: each tick is a
+  set of artists made at every draw) and a fast PNG compression level. A 307 k-point frame
+  renders in about 0.1 s once matplotlib is imported.
 - Viewpoint: ``elev=35°``, ``azim=-150°`` — obliquely from behind-left of the robot base (world
   x forward, z up), like RViz's default orbit camera; both are arguments.
 - ``plane`` may be a ``_core.Plane`` (has ``n`` and ``c``) or an ``(n, c)`` pair.
@@ -31,6 +33,13 @@ BOX_RGB = (0.0, 0.85, 0.0)         # green
 ARROW_RGB = (1.0, 0.55, 0.0)       # orange
 PLANE_RGB = (0.6, 0.6, 0.6)
 
+#: zlib level of the PNG files: 1 encodes a snapshot about twice as fast as the default 6
+#: (~16 ms instead of ~33 ms for 960x720), for a file a few per cent larger.
+PNG_COMPRESS_LEVEL = 1
+#: At most this many intervals between the tick labels of an axis (matplotlib's default
+#: locator puts up to 9 on a 3-D axis; each tick is a set of artists made at every draw).
+MAX_TICK_INTERVALS = 6
+
 # Unit-cube corners (±1/2) and the 12 edges between them.
 _CORNERS = np.array([[x, y, z] for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-0.5, 0.5)])
 _EDGES = [(i, j) for i in range(8) for j in range(i + 1, 8)
@@ -38,10 +47,12 @@ _EDGES = [(i, j) for i in range(8) for j in range(i + 1, 8)
 
 
 def _finite_rows(points) -> np.ndarray:
+    """The finite rows of an (N, 3) array as float64 (selected before the conversion: a
+    frame's cloud is float32 and mostly NaN-free)."""
     if points is None:
         return np.zeros((0, 3))
-    p = np.asarray(points, dtype=float).reshape(-1, 3)
-    return p[np.isfinite(p).all(axis=1)]
+    p = np.asarray(points).reshape(-1, 3)
+    return p[np.isfinite(p).all(axis=1)].astype(float)
 
 
 def _subsample(points: np.ndarray, limit: int) -> np.ndarray:
@@ -172,6 +183,10 @@ def _set_view(ax, lo: np.ndarray, hi: np.ndarray, elev: float, azim: float) -> N
     ax.set_ylabel("y [m]", fontsize=8)
     ax.set_zlabel("z [m]", fontsize=8)
     ax.tick_params(labelsize=7)
+    from matplotlib.ticker import MaxNLocator
+
+    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
+        axis.set_major_locator(MaxNLocator(nbins=MAX_TICK_INTERVALS, steps=[1, 2, 5, 10]))
 
 
 def build_figure(object_points=None, object_labels=None, environment_points=None,
@@ -231,5 +246,6 @@ def render_snapshot(path: str | os.PathLike, object_points=None, object_labels=N
     parent = os.path.dirname(path)
     if parent:
         os.makedirs(parent, exist_ok=True)
-    fig.savefig(path, format="png", dpi=fig.dpi, facecolor="white")
+    fig.savefig(path, format="png", dpi=fig.dpi, facecolor="white",
+                pil_kwargs={"compress_level": PNG_COMPRESS_LEVEL})
     return path

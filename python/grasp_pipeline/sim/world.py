@@ -133,7 +133,10 @@ class SimWorld:
         base_root = m.body(BASE_BODY).id
         self._robot_geom = m.body_rootid[m.geom_bodyid] == base_root
         self._geom_names: list[str] | None = None
-        self._unexpected_memo: tuple[tuple, list[str]] | None = None
+        # (contact key, robot contacts by name) and (allowance, contact key, verdict) of the
+        # latest contacts asked about: see _contact_key
+        self._contacts_memo: tuple[bytes, list[tuple[str, str]]] = (b"", [])
+        self._unexpected_memo: tuple[ContactAllowance | None, bytes, list[str]] = (None, b"", [])
         self._check_table_height()
 
         start_q = np.asarray(self.scene.start_q, dtype=float)
@@ -469,10 +472,17 @@ class SimWorld:
     def is_robot_geom(self, geom_id: int) -> bool:
         return bool(self._robot_geom[geom_id])
 
+    def _contact_key(self) -> bytes:
+        """The geom pairs of the active contacts in contact order, as bytes: equal keys mean
+        the same contacts (what is touching what), so answers derived from them can be kept
+        while the key stays the same (a scene at rest, a held object: for many steps)."""
+        d = self.data
+        return d.contact.geom.tobytes() if d.ncon else b""
+
     def _robot_pairs(self) -> np.ndarray | None:
         """(k, 2) geom ids (robot geom, other geom) of the contacts between a robot geom and a
-        non-robot geom, in contact order; None when there is none. Vectorised (called at every
-        monitored physics step): most contacts are object-table contacts."""
+        non-robot geom, in contact order; None when there is none. Vectorised: most contacts
+        are object-table contacts."""
         d = self.data
         if d.ncon == 0:
             return None
@@ -488,6 +498,16 @@ class SimWorld:
         out[swap] = out[swap][:, ::-1]
         return out
 
+    def _named_robot_contacts(self, key: bytes) -> list[tuple[str, str]]:
+        """:meth:`robot_contacts` (objects included) of the contacts whose key is ``key`` (the
+        current one), kept until the contacts change (called at every monitored step)."""
+        if key != self._contacts_memo[0]:
+            pairs = self._robot_pairs()
+            name = self.geom_name
+            named = [] if pairs is None else [(name(r), name(o)) for r, o in pairs.tolist()]
+            self._contacts_memo = (key, named)
+        return self._contacts_memo[1]
+
     def robot_contacts(self, include_objects: bool = True) -> list[tuple[str, str]]:
         """Active contacts between robot geoms and non-robot geoms, as
         ``(robot_geom_name, other_geom_name)`` pairs (one entry per contact point).
@@ -495,12 +515,9 @@ class SimWorld:
         ``include_objects=False`` leaves out contacts with the graspable objects (``obj_*``),
         i.e. lists only robot-environment contacts (table, floor, wall, tray).
         """
-        pairs = self._robot_pairs()
-        if pairs is None:
-            return []
-        name = self.geom_name
-        out = [(name(r), name(o)) for r, o in pairs.tolist()]
-        return out if include_objects else [(r, o) for r, o in out if not o.startswith(OBJECT_PREFIX)]
+        out = self._named_robot_contacts(self._contact_key())
+        return list(out) if include_objects else [(r, o) for r, o in out
+                                                  if not o.startswith(OBJECT_PREFIX)]
 
     def unexpected_contacts(self, allowance: ContactAllowance) -> list[str]:
         """The contact monitor (:class:`~grasp_pipeline.robot.protocols.ContactMonitor`):
@@ -509,17 +526,14 @@ class SimWorld:
         ``FINGERS``: finger geoms touching objects are expected. ``HELD_OBJECT``: the objects
         the finger pads touch now (any of their collision parts) may touch any robot geom (a
         held object tilting against the palm). Fixtures (table, tray, wall) are never expected.
-        (The answer for the latest set of contact pairs is kept: a held object's contacts
-        stay the same for many steps.)"""
-        pairs = self._robot_pairs()
-        if pairs is None:
-            return []
-        key = (allowance, pairs.tobytes())
-        if self._unexpected_memo is None or self._unexpected_memo[0] != key:
-            name = self.geom_name
-            self._unexpected_memo = (key, _unexpected([(name(r), name(o)) for r, o in pairs.tolist()],
-                                                      allowance))
-        return list(self._unexpected_memo[1])
+        (Called at every monitored physics step: the answer is kept while the contacts stay
+        the same, :meth:`_contact_key`.)"""
+        key = self._contact_key()
+        memo = self._unexpected_memo
+        if memo[0] is not allowance or memo[1] != key:
+            memo = (allowance, key, _unexpected(self._named_robot_contacts(key), allowance))
+            self._unexpected_memo = memo
+        return list(memo[2])
 
     @property
     def work_cell(self) -> WorkCell:

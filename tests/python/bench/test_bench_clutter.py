@@ -206,10 +206,11 @@ def _moves(result) -> list:
 
 
 def test_rounds_in_one_worker_are_the_rounds_of_fresh_processes(tmp_path):
-    """Two rounds run by one worker process one after the other make the same moves, attempt
-    for attempt and to the simulated second, as each round in a process of its own."""
+    """Two rounds (one object each) run by one worker process one after the other make the
+    same moves, attempt for attempt and to the simulated second, as each round in a process of
+    its own."""
     kwargs = dict(protocol="sparse", rounds=2, seeds=(7,), json_path=None, progress=False,
-                  overrides=(None, ("sim.object_count=[2,2]",)))
+                  overrides=(None, ("sim.object_count=[1,1]",)))
     fresh = cb.run_clutter_benchmark(out_dir=tmp_path / "fresh", jobs_per_worker=1, **kwargs)
     reused = cb.run_clutter_benchmark(out_dir=tmp_path / "reused", jobs_per_worker=2, **kwargs)
     assert fresh.status == reused.status == "complete"

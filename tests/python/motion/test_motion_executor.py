@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from grasp_pipeline.motion.exceptions import ExecutionError
-from grasp_pipeline.motion.executor import TrajectoryExecutor
+from grasp_pipeline.motion.executor import TrajectoryExecutor, max_abs_diff
 from grasp_pipeline.robot import description as rm
 from grasp_pipeline.sim.world import SimWorld
 
@@ -64,3 +64,11 @@ def test_trajectory_far_from_current_state_refused(planner, world):
     traj = planner.plan_to_joints(rm.NEUTRAL_Q, rm.READY_Q)
     with pytest.raises(ExecutionError, match="away from the current joints"):
         TrajectoryExecutor(world, planner.config).execute(traj)
+
+
+def test_max_abs_diff_is_numpys_value_bit_for_bit():
+    rng = np.random.default_rng(7)
+    for _ in range(200):
+        a, b = rng.normal(scale=rng.choice([1e-6, 1e-3, 1.0, 3.0]), size=(2, 7))
+        assert max_abs_diff(a.tolist(), b.tolist()) == float(np.max(np.abs(a - b)))
+    assert max_abs_diff([0.0, -2.5], [0.0, 0.5]) == 3.0

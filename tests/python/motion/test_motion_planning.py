@@ -146,3 +146,42 @@ def test_stop_at_waypoints_timing_follows_polyline(planner, rng):
         d = min(np.linalg.norm((q - a) - np.clip(np.dot(q - a, b - a) / np.dot(b - a, b - a), 0, 1) * (b - a))
                 for a, b in ((wp[0], wp[1]), (wp[1], wp[2])))
         assert d < 1e-6
+
+
+def test_timing_samples_equal_the_trajectory_calls(motion_config):
+    """The one-pass sampling gives the very values of ``traj(t)``, ``traj(t, 1)``, ``traj(t, 2)``."""
+    import toppra
+    import toppra.algorithm as algo
+    import toppra.constraint as constraint
+
+    from grasp_pipeline.motion.timing import _evaluate
+
+    t = TrajectoryTimer(rm.PANDA_QD_MAX, rm.PANDA_QDD_MAX, motion_config)
+    wp = np.array([rm.READY_Q, rm.READY_Q + 0.3, rm.READY_Q - 0.2])
+    ss = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(wp, axis=0), axis=1))]
+    cons = [constraint.JointVelocityConstraint(np.stack([-t.qd_limit, t.qd_limit], axis=1)),
+            constraint.JointAccelerationConstraint(np.stack([-t.qdd_limit, t.qdd_limit], axis=1))]
+    traj = algo.TOPPRA(cons, toppra.SplineInterpolator(ss, wp), gridpoints=np.linspace(0, ss[-1], 50),
+                       parametrizer="ParametrizeConstAccel").compute_trajectory(0.0, 0.0)
+    tau = np.linspace(0.0, float(traj.duration), 301)
+    for got, want in zip(_evaluate(traj, tau), (traj(tau), traj(tau, 1), traj(tau, 2))):
+        assert np.array_equal(got, want)
+
+
+def test_self_filter_drops_exactly_the_points_in_the_spheres(planner, rng):
+    """The robot's self-filter (its quick no-point-near test included) drops the points within
+    the padded spheres and keeps every other, near or far."""
+    from grasp_pipeline.motion.motion_planner import may_touch_spheres
+
+    q = rm.READY_Q
+    C = planner.robot.centres(q[None])[0]
+    r = planner.robot.spheres.radius + planner.config.self_filter_padding_m
+    far = np.column_stack([rng.uniform(0.3, 0.8, 4000), rng.uniform(-0.4, 0.4, 4000), np.zeros(4000)])
+    assert not may_touch_spheres(far, C, r)
+    near = C[rng.integers(0, len(C), 3000)] + rng.normal(scale=0.03, size=(3000, 3))
+    pts = np.vstack([far, near])
+    d = np.min(np.linalg.norm(pts[:, None] - C[None], axis=2) - r[None], axis=1)
+    assert np.min(np.abs(d)) > 1e-9  # no point on a sphere's surface: the brute force decides
+    kept = planner._self_filter(pts, q)
+    assert np.array_equal(kept, pts[d > 0]) and len(kept) < len(pts)
+    assert np.array_equal(planner._self_filter(far, q), far)

@@ -10,7 +10,7 @@ import pytest
 
 from grasp_pipeline.exceptions import ConfigError
 from grasp_pipeline.robot import description as rm
-from grasp_pipeline.sim.camera import DepthCamera, _select_f32
+from grasp_pipeline.sim.camera import DepthCamera
 from grasp_pipeline.sim.config import load_camera_config
 from grasp_pipeline.sim.ground_truth import object_truths
 from grasp_pipeline.sim.ik import solve_ik
@@ -180,17 +180,6 @@ def test_without_gl_frames_are_ray_cast_and_logged():
                          timeout=120, check=True).stdout
     assert "depth camera backend: raycast" in out
     assert "FRAME raycast (3072, 3) float32" in out
-
-
-def test_select_f32_is_np_where_bit_for_bit():
-    rng = np.random.default_rng(0)
-    b = rng.normal(size=(40, 30)).astype(np.float32)
-    b[rng.random(b.shape) < 0.2] = np.nan
-    b[0, :3] = [np.inf, -np.inf, -0.0]
-    a = rng.normal(size=(40, 31)).astype(np.float32)[:, 1:]  # a strided view
-    cond = rng.random(b.shape) < 0.5
-    for x in (a, np.float32(np.nan), np.float32(-0.0)):
-        assert _select_f32(cond, x, b).tobytes() == np.where(cond, x, b).tobytes()
 
 
 def _reference_frame(cam, z, T):

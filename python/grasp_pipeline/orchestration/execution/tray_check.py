@@ -145,4 +145,7 @@ def _frames_points(rt, robot, loop, cfg: PlaceConfig):
         log.warning("no camera frame while looking into the tray")
         return None
     pts = np.vstack(seen)
-    return pts[np.all(np.isfinite(pts), axis=1)]
+    finite = np.isfinite(pts[:, 0])  # column by column: the same rows, several times faster
+    finite &= np.isfinite(pts[:, 1])
+    finite &= np.isfinite(pts[:, 2])
+    return pts[finite]

@@ -132,28 +132,70 @@ def _spot_cells(grid, contents_h: np.ndarray, heights: np.ndarray, inside: np.nd
     lies inside the walls, rests on the highest thing under its spheres (nothing beside it
     stands higher than what it stands on, give or take ``tolerance_m``) and the hand clears
     the walls and contents with the object on it; the height of what it stands on (0: the
-    floor)."""
+    floor).
+
+    Each test asks for the highest value over a set of cells around each cell (maxima are
+    exact, so in any grouping: the same verdicts), taken over runs of cells along a row
+    (:func:`_highest`)."""
     obj, under, hand, limits = stamp
     pad = int(max(np.abs(obj).max(initial=0), np.abs(hand).max(initial=0)))
-    nu, nv = grid.shape
-
-    def shifted(a, du, dv):
-        return a[pad + du:pad + du + nu, pad + dv:pad + dv + nv]
-
+    shape = grid.shape
     C = np.pad(contents_h, pad, constant_values=np.inf)
     inside = np.pad(inside, pad, constant_values=False)
     H = np.pad(heights, pad, constant_values=rim_m)
-    ok = np.ones((nu, nv), dtype=bool)
-    around, support = np.zeros((nu, nv)), np.zeros((nu, nv))
-    for du, dv in obj:
-        ok &= shifted(inside, du, dv)
-        around = np.maximum(around, shifted(C, du, dv))
-    for du, dv in under:
-        support = np.maximum(support, shifted(C, du, dv))
-    ok &= np.isfinite(around) & (around <= support + tolerance_m)
-    for (du, dv), lim in zip(hand, limits):
-        ok &= shifted(H, du, dv) <= lim + support
+    # a cell outside the walls under the object counts as infinitely high: never finite
+    around = np.maximum(_highest(np.where(inside, C, np.inf), obj, pad, shape), 0.0)
+    support = np.maximum(_highest(C, under, pad, shape), 0.0)
+    ok = np.isfinite(around) & (around <= support + tolerance_m)
+    # every hand cell's height is at most its limit plus the support: per distinct limit (the
+    # hand's spheres give a few), the highest of its cells is
+    table = _RunMaxima(H)
+    for lim in np.unique(limits):
+        ok &= _highest(H, hand[limits == lim], pad, shape, table) <= lim + support
     return ok, support
+
+
+class _RunMaxima:
+    """Maxima of an array over runs of consecutive columns: level ``l`` holds, at column ``j``,
+    the largest of columns ``j .. j + 2**l - 1`` (a sparse table); a run of any length is the
+    larger of two overlapping power-of-two runs."""
+
+    def __init__(self, a: np.ndarray) -> None:
+        self.levels = [a]
+
+    def level(self, length: int) -> tuple[np.ndarray, int]:
+        """(the level of the longest power-of-two run within ``length``, that run's length)."""
+        lv = length.bit_length() - 1
+        while len(self.levels) <= lv:
+            prev, half = self.levels[-1], 1 << (len(self.levels) - 1)
+            self.levels.append(np.maximum(prev[:, :-half], prev[:, half:]))
+        return self.levels[lv], 1 << lv
+
+
+def _row_runs(offsets: np.ndarray) -> list[tuple[int, int, int]]:
+    """The cells ``offsets`` (K, 2) as runs (du, first dv, last dv) of consecutive dv."""
+    o = offsets[np.lexsort((offsets[:, 1], offsets[:, 0]))]
+    breaks = np.flatnonzero((np.diff(o[:, 0]) != 0) | (np.diff(o[:, 1]) != 1)) + 1
+    starts, ends = np.r_[0, breaks], np.r_[breaks, len(o)] - 1
+    return [(int(o[a, 0]), int(o[a, 1]), int(o[b, 1])) for a, b in zip(starts, ends)]
+
+
+def _highest(a: np.ndarray, offsets: np.ndarray, pad: int, shape: tuple[int, int],
+             table: _RunMaxima | None = None) -> np.ndarray:
+    """(nu, nv) for each cell, the largest of ``a`` (the grid padded by ``pad``) over the
+    cells at ``offsets`` (K, 2) from it (-inf without offsets); ``table``: ``a``'s run maxima."""
+    nu, nv = shape
+    out = np.full(shape, -np.inf)
+    if len(offsets) == 0:
+        return out
+    table = table if table is not None else _RunMaxima(a)
+    for du, first, last in _row_runs(np.asarray(offsets)):
+        lv, w = table.level(last - first + 1)
+        rows = slice(pad + du, pad + du + nu)
+        np.maximum(out, lv[rows, pad + first:pad + first + nv], out=out)
+        if w < last - first + 1:
+            np.maximum(out, lv[rows, pad + last - w + 1:pad + last - w + 1 + nv], out=out)
+    return out
 
 
 def _free(contents: TrayContents, shape: HeldShape, rotations, cfg: PlaceConfig):

@@ -95,11 +95,20 @@ def concat_contacts(first: Contacts, second: Contacts) -> Contacts:
 
 
 def _masked_min(v: np.ndarray, m: np.ndarray) -> np.ndarray:
-    return np.min(v, axis=0, where=m, initial=np.inf)
+    """(K,) the smallest of ``v`` (N, K) where ``m`` holds, per column (inf: none) — as
+    ``np.min(v, axis=0, where=m, initial=np.inf)``, whose masked loop is twice as slow: the
+    values left out become inf, which no minimum takes (the same values, in the same order)."""
+    if len(v) == 0:
+        return np.min(v, axis=0, where=m, initial=np.inf)
+    return np.where(m, v, np.inf).min(axis=0)
 
 
 def _masked_max(v: np.ndarray, m: np.ndarray) -> np.ndarray:
-    return np.max(v, axis=0, where=m, initial=-np.inf)
+    """(K,) the largest of ``v`` (N, K) where ``m`` holds, per column (-inf: none); see
+    :func:`_masked_min`."""
+    if len(v) == 0:
+        return np.max(v, axis=0, where=m, initial=-np.inf)
+    return np.where(m, v, -np.inf).max(axis=0)
 
 
 def _lowest(nb: np.ndarray, nc: np.ndarray, na: np.ndarray, corners: np.ndarray) -> np.ndarray:

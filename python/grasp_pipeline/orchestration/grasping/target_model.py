@@ -113,6 +113,17 @@ def footprint_centroid(points: np.ndarray, heights: np.ndarray, plane_n: np.ndar
     return flat.mean(axis=0) + mid * n
 
 
+def _near_xy(points: np.ndarray, ref: np.ndarray, margin_m: float) -> np.ndarray:
+    """(N,) whether each of ``points`` lies within the horizontal (world x, y) bounding box of
+    ``ref`` grown by ``margin_m``."""
+    lo = [ref[:, j].min() - margin_m for j in (0, 1)]
+    hi = [ref[:, j].max() + margin_m for j in (0, 1)]
+    near = (points[:, 0] >= lo[0]) & (points[:, 0] <= hi[0])
+    near &= points[:, 1] >= lo[1]
+    near &= points[:, 1] <= hi[1]
+    return near
+
+
 def target_model(cloud: SceneCloud, tid: int, viewpoint: np.ndarray, cell_m: float,
                  max_points: int, unknown=None, max_cell_m: float = 0.009) -> TargetModel | None:
     """The :class:`TargetModel` of track ``tid`` in ``cloud`` (None without points of it):
@@ -126,9 +137,13 @@ def target_model(cloud: SceneCloud, tid: int, viewpoint: np.ndarray, cell_m: flo
     own = cloud.points[mask]
     if len(own) < 3:
         return None
-    other = cloud.points[~mask]
+    other = np.compress(~mask, cloud.points, axis=0)  # points[~mask], faster
     other_h = cloud.heights_m(other)
     cell = float(cell_m)
+    # only points in the target's columns can stop a column's fill: those within two of the
+    # largest cells of its points (across, horizontally) hold every one
+    near = _near_xy(other, own, 2.0 * max(cell, float(max_cell_m)))
+    other, other_h = other[near], other_h[near]
     tree = cKDTree(own)
     while True:
         keep = thin(own, cell)

@@ -134,3 +134,21 @@ def test_alternative_spots_are_apart(cube_shape):
     for i, a in enumerate(spots):
         for b in spots[i + 1:]:
             assert np.linalg.norm(a.xy - b.xy) >= cfg.spot_separation_m - 1e-9
+
+
+def test_highest_over_cell_runs_equals_the_maximum_of_the_shifted_grids():
+    """The run maxima give, per cell, the very largest value of the shifted grids (runs of
+    any length, gaps in a row, single cells; no offsets: -inf)."""
+    from grasp_pipeline.orchestration.execution.tray_spots import _highest
+
+    rng = np.random.default_rng(3)
+    pad, shape = 9, (13, 17)
+    a = rng.normal(size=(shape[0] + 2 * pad, shape[1] + 2 * pad))
+    a[rng.random(a.shape) < 0.05] = np.inf
+    for n in (1, 5, 60, 200):
+        offsets = np.unique(rng.integers(-pad, pad + 1, size=(n, 2)), axis=0)
+        want = np.full(shape, -np.inf)
+        for du, dv in offsets:
+            want = np.maximum(want, a[pad + du:pad + du + shape[0], pad + dv:pad + dv + shape[1]])
+        assert np.array_equal(_highest(a, offsets, pad, shape), want)
+    assert np.all(_highest(a, np.zeros((0, 2), dtype=int), pad, shape) == -np.inf)
