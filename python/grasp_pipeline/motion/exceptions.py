@@ -7,6 +7,10 @@ asked, what went wrong and (where it applies) by how much.
 
 from __future__ import annotations
 
+from typing import Optional
+
+import numpy as np
+
 from ..exceptions import GraspPipelineError, InputError
 
 
@@ -64,7 +68,11 @@ class EnvironmentCloudError(MotionError, InputError):
 class ExecutionError(MotionError):
     """Following a trajectory was stopped (tracking error, contact, no settling); the arm holds still."""
 
-    def __init__(self, message: str, reason: str = "", time_s: float = float("nan")) -> None:
+    def __init__(self, message: str, reason: str = "", time_s: float = float("nan"),
+                 q_commanded: Optional[np.ndarray] = None, q_measured: Optional[np.ndarray] = None) -> None:
         super().__init__(message)
         self.reason = reason
         self.time_s = time_s
+        #: the joints commanded and measured when the arm was stopped (None: not known)
+        self.q_commanded = q_commanded
+        self.q_measured = q_measured

@@ -58,11 +58,13 @@ class TrajectoryExecutor:
         self.config = config
 
     def _stop(self, reason: str, message: str) -> None:
+        q_commanded = np.array(self.world.reference()[0], dtype=float)
+        q_measured = np.array(self.world.q, dtype=float)
         self.world.hold()  # hold the current joints
         t = float(self.world.time_s)
         log.warning("execution stopped (%s) at t=%.3f s: %s", reason, t, message)
         raise ExecutionError(f"execution stopped: {message}; the arm holds its current position",
-                             reason=reason, time_s=t)
+                             reason=reason, time_s=t, q_commanded=q_commanded, q_measured=q_measured)
 
     def execute(self, traj: JointTrajectory, allowance: ContactAllowance = ContactAllowance.NONE,
                 wait_settled: bool = True, release_contacts: bool = False) -> ExecutionReport:

@@ -43,6 +43,9 @@ def test_tracking_error_stops_and_holds(planner, world):
     with pytest.raises(ExecutionError, match="tracking error") as ei:
         TrajectoryExecutor(world, strict).execute(traj)
     assert ei.value.reason == "tracking"
+    # the joints commanded and measured at the stop come with it (the arm's offset from its command)
+    err = np.max(np.abs(ei.value.q_commanded - ei.value.q_measured))
+    assert strict.tracking_error_limit_rad < err < 0.05
     _assert_holding(world)
 
 

@@ -181,9 +181,12 @@ class FakeMotion:
     def __init__(self, robot: FakeRobot, unreachable_kinds=()) -> None:
         self.robot = robot
         model, config = _planner_parts()
-        self.planner = SimpleNamespace(set_finger_opening=lambda m: None, model=model, config=config)
+        # the fake's forward kinematics: the TCP stands q[0] high (what a stop's joints say)
+        ik = SimpleNamespace(fk_tcp=lambda q: np.array([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, q[0]], [0, 0, 0, 1.0]]))
+        self.planner = SimpleNamespace(set_finger_opening=lambda m: None, model=model, config=config, ik=ik)
         self.lines_blocked_below_z_m = -np.inf
         self.stop_kinds: dict[str, float] = {}
+        self.stop_held_up_m: dict[str, float] = {}  # {kind: m}: that stop is the arm not following, held up this much
         self.obstacles: dict = {}
         self.executed: list[tuple[str, ContactAllowance]] = []
         self.unreachable_kinds = set(unreachable_kinds)
@@ -251,6 +254,11 @@ class FakeMotion:
             from grasp_pipeline.motion.exceptions import ExecutionError
 
             self.robot.tcp[:3, 3] += stop * (np.asarray(traj.T, float)[:3, 3] - self.robot.tcp[:3, 3])
+            held_up = self.stop_held_up_m.pop(kind, None)
+            if held_up is not None:
+                raise ExecutionError(f"execution stopped: tracking error (fake) in {kind}", reason="tracking",
+                                     time_s=self.robot.time_s, q_commanded=np.zeros(7),
+                                     q_measured=np.r_[held_up, np.zeros(6)])
             raise ExecutionError(f"execution stopped: unexpected robot contact (fake) in {kind}",
                                  reason="contact", time_s=self.robot.time_s)
         self.robot.tcp = np.asarray(traj.T, float).copy()

@@ -16,7 +16,11 @@ PLACE (parameters: ``config/place.yaml``):
    the planner lets the line go. It is never released higher than ``release_max_drop_m`` above
    what is under it: a lowering that stops higher (refused by the planner, or stopped by a
    contact, a tracking error or a settle timeout) backs up and tries the next spot, up to
-   ``lower_attempts`` spots, then PLACE fails;
+   ``lower_attempts`` spots, then PLACE fails — except a touchdown: a lowering stopped by a
+   tracking error or no settling with the hand held at least ``touch_down_m`` above its
+   commanded height rests the object on what is under it (it hangs lower than the planner's
+   model of it: turned in the fingers, or a part the camera never saw), and it is released
+   there;
 5. open a little beyond the object; the planner's world detaches it; it becomes the named
    obstacle ``placed/<k>`` where and how high it was released;
 6. up, then look into the tray (:mod:`.tray_check`): the tray's contents are refreshed from
@@ -58,6 +62,9 @@ FINGERS = ContactAllowance.FINGERS
 PREFERRED_INSET_M = 0.055
 #: After a release, the TCP goes at least this far above the released object's top [m].
 CLEAR_ABOVE_M = 0.06
+#: Stops of a lowering that say the arm could not follow (a touchdown shows as one of these;
+#: a robot contact is its own reason and never counts as the object resting).
+_HELD_UP_REASONS = ("tracking", "settle")
 
 
 class PlacePlanningError(GraspPipelineError):
@@ -235,6 +242,12 @@ def _lower(action, out: GraspOutcome, T_above: np.ndarray, shape: HeldShape, not
     except MotionError as exc:  # a contact, a tracking error, no settling
         motion.sync()
         drop = float(robot.tcp_pose()[2, 3]) - bottom - support
+        held_up = hand_held_up_m(motion.planner, exc)
+        if held_up >= cfg.touch_down_m:
+            log.info("the lowering stopped with the hand held %.0f mm above its command: the object "
+                     "rests on what is under it (the model put it %.0f mm higher); releasing there",
+                     held_up * 1e3, drop * 1e3)
+            return True
         if drop > cfg.release_max_drop_m:
             notes.append(f"at {where} the lowering stopped {drop * 1e3:.0f} mm above what is under "
                          f"the object ({exc})")
@@ -244,6 +257,17 @@ def _lower(action, out: GraspOutcome, T_above: np.ndarray, shape: HeldShape, not
         log.info("the lowering stopped %.0f mm above what is under the object (%s); releasing "
                  "there", drop * 1e3, exc)
     return True
+
+
+def hand_held_up_m(planner, exc: Exception) -> float:
+    """How far above its commanded height the TCP stood when the motion ``exc`` stopped it
+    (the arm held up by what the lowered object rests on: a touchdown); 0 when the stop did
+    not come from following the arm (a contact of the robot itself, or no joints known)."""
+    q_commanded = getattr(exc, "q_commanded", None)
+    q_measured = getattr(exc, "q_measured", None)
+    if q_commanded is None or q_measured is None or getattr(exc, "reason", "") not in _HELD_UP_REASONS:
+        return 0.0
+    return float(planner.ik.fk_tcp(q_measured)[2, 3] - planner.ik.fk_tcp(q_commanded)[2, 3])
 
 
 def _back_up(action, out: GraspOutcome):

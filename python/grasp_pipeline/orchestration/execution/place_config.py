@@ -21,6 +21,7 @@ class PlaceConfig:
     lower_step_m: float = 0.003
     lower_attempts: int = 3
     lower_backoff_m: float = 0.03
+    touch_down_m: float = 0.005
     slot_dx_m: float = 0.05
     slot_dy_m: float = 0.08
     spot_cell_m: float = 0.005
@@ -45,6 +46,7 @@ class PlaceConfig:
         "lower_step_m": length_m(0.05),
         "lower_attempts": count(1, 20),
         "lower_backoff_m": length_m(0.2),
+        "touch_down_m": length_m(0.1),
         "slot_dx_m": length_m(0.2),
         "slot_dy_m": length_m(0.2),
         "spot_cell_m": length_m(0.05),

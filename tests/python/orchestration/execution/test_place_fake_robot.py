@@ -92,6 +92,33 @@ def test_a_lowering_stopped_high_by_a_contact_backs_up_and_places_elsewhere():
     assert bottom_above_floor_m(releases[0], action) == pytest.approx(CFG.release_clearance_m, abs=1e-6)
 
 
+def test_a_lowering_stopped_high_with_the_hand_held_up_is_a_touchdown_and_releases_there():
+    # the object hangs lower than the model of it: it rests on the floor while the model puts
+    # its bottom 60 mm up, and the arm, held up by it, stops with a tracking error
+    robot = FakeRobot(object_width_m=0.05)
+    motion = FakeMotion(robot)
+    motion.stop_kinds["place_down"] = 0.4
+    motion.stop_held_up_m["place_down"] = 0.02
+    out, motion, action, releases = run_place(robot, motion)
+    assert out.success and out.placed, out.message
+    kinds = [k for k, _ in motion.executed]
+    assert kinds.count("place_down") == 1 and "place_back_up" not in kinds
+    assert len(releases) == 1
+    assert bottom_above_floor_m(releases[0], action) > CFG.release_max_drop_m  # where the model put it
+
+
+def test_a_tracking_stop_without_the_hand_held_up_backs_up_and_places_elsewhere():
+    robot = FakeRobot(object_width_m=0.05)
+    motion = FakeMotion(robot)
+    motion.stop_kinds["place_down"] = 0.4
+    motion.stop_held_up_m["place_down"] = 0.5 * CFG.touch_down_m  # a sag, not a support
+    out, motion, action, releases = run_place(robot, motion)
+    assert out.success and out.placed, out.message
+    kinds = [k for k, _ in motion.executed]
+    assert kinds.count("place_down") == 2 and "place_back_up" in kinds
+    assert bottom_above_floor_m(releases[0], action) == pytest.approx(CFG.release_clearance_m, abs=1e-6)
+
+
 def test_a_lowering_stopped_low_by_a_contact_releases_there():
     robot = FakeRobot(object_width_m=0.05)
     motion = FakeMotion(robot)
