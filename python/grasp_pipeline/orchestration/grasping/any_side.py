@@ -9,7 +9,8 @@ direction within a tilt limit of the table normal.
    across the object;
 3. the pads' contact checks on the object (:mod:`.contacts`): depth, material between the
    pads, width within the opening, contact patches, the fingers' way in;
-4. the best ``preselect`` of those against the scene (:mod:`.clearance`): the planner's hand
+4. the best ``preselect`` of those against the scene (:mod:`.clearance`; the next
+   ``preselect`` while none passes, up to ``preselect_batches`` batches): the planner's hand
    spheres along the approach clear of the neighbours, the environment and the table; the
    palm and camera clear of the object; the fingers' sweep through space no camera has seen
    (when the request can tell, :class:`~grasp_pipeline.orchestration.grasping.source.GraspRequest`
@@ -115,8 +116,26 @@ class AnySideGraspSource:
             self.last_refusal = self._summary(con.code, len(frames))
             return []
         pre = score(con, frames, self.config, lim, None, None)
-        ok = ok[np.argsort(-pre[ok], kind="stable")][: self.config.preselect]
-        return self._finish(request, target, frames, con, ok, lim)
+        return self._finish_in_batches(request, target, frames, con, ok[np.argsort(-pre[ok], kind="stable")], lim)
+
+    def _finish_in_batches(self, request, target, frames, con, ranked, lim) -> list:
+        """The scene checks and the reach (:meth:`_finish`) of the ``preselect`` best frames of
+        ``ranked``, then of the next ``preselect`` while none of a batch passes, up to
+        ``preselect_batches`` batches: when a neighbour blocks the side the best-scored frames
+        all come in from, the grasps from another side rank lower. The refusal is the first
+        batch's, with how many more were checked."""
+        n = self.config.preselect
+        batches = [ranked[k:k + n] for k in range(0, min(len(ranked), n * self.config.preselect_batches), n)]
+        obs = self._obstacles(request)
+        first = ""
+        for batch in batches:
+            grasps = self._finish(request, target, frames, con, batch, lim, obs)
+            if grasps:
+                return grasps
+            first = first or self.last_refusal
+        more = sum(len(b) for b in batches[1:])
+        self.last_refusal = first + (f" (and none of the next {more} candidates)" if more else "")
+        return []
 
     # ------------------------------------------------------------------ steps
     def _viewpoint(self, request) -> np.ndarray:
@@ -235,9 +254,8 @@ class AnySideGraspSource:
                 slack[i] = slack2[j]
         return merged, slack
 
-    def _finish(self, request, target, frames, con, idx, lim) -> list:
+    def _finish(self, request, target, frames, con, idx, lim, obs: ObstacleSet) -> list:
         cfg = self.config
-        obs = self._obstacles(request)
         backs = tuple(cfg.approach_checks_m) + (self.grasp_config.pre_grasp_distance_m,)
         con, slack = self._raise(request, target, frames, con, idx, lim, obs, backs)
         sub, origins = frames.take(idx), con.tcp_positions(frames.take(idx))

@@ -28,6 +28,7 @@ class SamplerConfig:
     step_levels: int = 2
     max_cell_m: float = 0.009
     preselect: int = 40
+    preselect_batches: int = 3
     reach_candidates: int = 10
     max_proposals: int = 6
     approach_checks_m: tuple[float, ...] = (0.0, 0.03, 0.06)
@@ -57,6 +58,7 @@ class SamplerConfig:
         "lines": count(1, 21), "line_spacing_m": step_m(0.05), "cell_m": step_m(0.02),
         "max_cell_m": step_m(0.02), "max_points": count(50, 20000),
         "step_levels": count(0, 5), "preselect": count(1, 2000),
+        "preselect_batches": count(1, 50),
         "approach_checks_m": length_m(0.3, zero=True), "max_raise_m": length_m(0.1, zero=True),
         "reach_candidates": count(1, 200), "max_proposals": count(1, 200),
         "duplicate_distance_m": length_m(0.1, zero=True),

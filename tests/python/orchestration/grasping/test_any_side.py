@@ -72,3 +72,23 @@ def test_a_cube_is_grasped_from_straight_above(source):
     grasps = source.propose(scene.request(1))
     assert grasps and grasps[0].kind is GraspKind.TOP_DOWN
     assert abs(grasps[0].width_m - 0.05) < 0.006
+
+
+def test_when_the_best_scored_grasps_all_meet_a_neighbour_the_next_ones_are_checked():
+    # a box narrow across y between two taller walls 12 mm off its y faces: every grasp closing
+    # across y (the narrowest, best scored) meets a wall; across x the fingers are free
+    import dataclasses
+
+    box = placed(shapes.box_parts(0.05, 0.045, 0.05))
+    walls = {k: placed(shapes.box_parts(0.08, 0.02, 0.08), position=(0.5, s * 0.0445, 0.0))
+             for k, s in ((2, 1.0), (3, -1.0))}
+    scene = Scene({1: box, **walls}, [ABOVE])
+    base = AnySideGraspSource(motion=load_motion_config())
+    one = dataclasses.replace(base.config, preselect=1, preselect_batches=1)
+    alone = AnySideGraspSource(config=one, motion=load_motion_config())
+    assert alone.propose(scene.request(1)) == []
+    assert "meets a neighbour" in alone.last_refusal
+    more = AnySideGraspSource(config=dataclasses.replace(one, preselect_batches=400), motion=load_motion_config())
+    grasps = more.propose(scene.request(1))
+    assert grasps, more.last_refusal
+    assert abs(grasps[0].closing @ np.array([1.0, 0.0, 0.0])) > 0.9  # across x, clear of the walls
