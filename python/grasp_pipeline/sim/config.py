@@ -78,6 +78,7 @@ class SimConfig:
 
     timestep_s: float = 0.002
     noslip_iterations: int = 0
+    noslip_hold_iterations: int = 5
     gripper_speed_mps: float = 0.1
     gripper_default_effort_N: float = 40.0
     object_density_kg_m3: float = 800.0
@@ -95,6 +96,7 @@ class SimConfig:
     RANGES: ClassVar[Mapping[str, Range]] = {
         "timestep_s": Range(0.0005, 0.005, unit=" s"),
         "noslip_iterations": count(0, 100),
+        "noslip_hold_iterations": count(0, 100),
         "gripper_speed_mps": Range(0.0, 1.0, lo_open=True, unit=" m/s"),
         "gripper_default_effort_N": FORCE_N,
         "object_density_kg_m3": Range(0.0, 25_000.0, lo_open=True, unit=" kg/m^3"),

@@ -70,6 +70,8 @@ FINGER_GEOM_MARK = "finger"
 TRAJECTORY_LIMIT_SLACK_RAD = 1e-3
 #: Table height check tolerance [m].
 TABLE_TOP_TOLERANCE_M = 1e-6
+#: Fingers commanded shut and at least this far apart hold an object (closer: shut on nothing) [m].
+_HOLDING_MIN_GAP_M = 0.004
 
 
 def _as_slice(idx: np.ndarray) -> slice | np.ndarray:
@@ -147,6 +149,8 @@ class SimWorld:
         self._grip_target_m = GRIPPER_MAX_WIDTH_M
         self._grip_cmd_m = GRIPPER_MAX_WIDTH_M
         self._grip_speed_mps = self.config.gripper_speed_mps
+        self._noslip_base = self.config.noslip_iterations
+        self._noslip_hold = self.config.noslip_hold_iterations
         self._set_grip_effort(self.config.gripper_default_effort_N)
         self._apply_controls()
         mujoco.mj_forward(m, self.data)
@@ -337,12 +341,22 @@ class SimWorld:
 
     # ------------------------------------------------------------------ stepping
     def _apply_controls(self) -> None:
+        if self._noslip_hold != self._noslip_base:
+            self._apply_noslip()
         self.data.ctrl[self._act_idx] = self._ref.command(self.data.time)
         if self._grip_cmd_m != self._grip_target_m:
             step = self._grip_speed_mps * self.model.opt.timestep
             diff = self._grip_target_m - self._grip_cmd_m
             self._grip_cmd_m = self._grip_target_m if abs(diff) <= step else self._grip_cmd_m + math.copysign(step, diff)
         self.data.ctrl[self._grip_act] = self._grip_cmd_m
+
+    def _apply_noslip(self) -> None:
+        """``noslip_hold_iterations`` no-slip passes while the hand holds an object by force
+        (the fingers commanded shut and still apart on it), ``noslip_iterations`` otherwise:
+        MuJoCo's soft contacts let a squeezed object creep between the pads under its weight;
+        the passes make the pads' friction hold as Coulomb friction does."""
+        holding = self._grip_target_m == 0.0 and self.finger_gap_m > _HOLDING_MIN_GAP_M
+        self.model.opt.noslip_iterations = self._noslip_hold if holding else self._noslip_base
 
     def step(self, n: int = 1) -> None:
         """Advance the physics by ``n`` steps, updating the controls before each.

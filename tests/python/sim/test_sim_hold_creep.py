@@ -1,5 +1,6 @@
 """Holding is force-controlled: an object squeezed across slanted faces creeps between the
-pads (its faces push it out along the approach), and the grip keeps squeezing it.
+pads (its faces push it out along the approach) in MuJoCo's soft contacts, and the grip keeps
+squeezing it; the simulated cell runs no-slip passes while the hand holds, and it stays put.
 
 The yellow prism lies on a rectangular face (a roof); the pads close across its two faces
 tilted 30 deg from vertical. Closing uses the product's routine (``close_until_stall``); with
@@ -78,10 +79,18 @@ def _grasp_lift_hold(world, motion, config: GraspConfig):
     return stall_gap, risen, lost_at
 
 
+def _without_hold_passes(make_world):
+    """Worlds without the no-slip passes while holding: the soft contacts' creep shows."""
+    from grasp_pipeline.sim.config import load_sim_config
+
+    sim = replace(load_sim_config(), noslip_hold_iterations=0, noslip_iterations=0)
+    return lambda scene, camera: make_world(scene, sim_config=sim, camera=camera)
+
+
 def test_a_prism_held_across_slanted_faces_stays_squeezed_while_it_creeps(make_world, motion):
     config = GraspConfig()
     assert config.hold_by_force
-    world = _prism_scene(make_world)
+    world = _prism_scene(_without_hold_passes(make_world))
     stall_gap, risen, lost_at = _grasp_lift_hold(world, motion, config)
     print(f"stall {stall_gap * 1e3:.1f} mm, gap now {world.finger_gap_m * 1e3:.1f} mm, "
           f"force {world.gripper_force_N:.1f} N, risen {risen * 1e3:.0f} mm, lost at {lost_at}")
@@ -94,7 +103,7 @@ def test_with_the_close_command_kept_the_squeeze_fades_as_the_gap_creeps(make_wo
     """The failure the force-controlled hold removes: the same grasp with the close command
     kept loses its squeeze within the hold (measured: the gap crept to the command)."""
     config = replace(GraspConfig(), hold_by_force=False)
-    world = _prism_scene(make_world)
+    world = _prism_scene(_without_hold_passes(make_world))
     stall_gap, risen, lost_at = _grasp_lift_hold(world, motion, config)
     print(f"stall {stall_gap * 1e3:.1f} mm, gap now {world.finger_gap_m * 1e3:.1f} mm, "
           f"force {world.gripper_force_N:.1f} N, risen {risen * 1e3:.0f} mm, lost at {lost_at}")
@@ -111,3 +120,23 @@ def test_with_the_no_slip_passes_the_prism_does_not_creep(make_world, motion):
     stall_gap, risen, lost_at = _grasp_lift_hold(world, motion, GraspConfig())
     assert lost_at is None and risen > LIFT_M - 0.002
     assert abs(world.finger_gap_m - stall_gap) < 0.001
+
+
+def test_by_default_the_no_slip_passes_run_only_while_the_hand_holds(make_world, motion):
+    """The simulated cell's default: no passes while the fingers are open (approaching), five
+    while they are commanded shut on the prism — which then does not creep through the lift
+    and the hold."""
+    from grasp_pipeline.sim.config import load_sim_config
+
+    sim = load_sim_config()
+    assert sim.noslip_iterations == 0 and sim.noslip_hold_iterations > 0
+    world = _prism_scene(make_world)
+    world.step()
+    assert world.model.opt.noslip_iterations == 0  # fingers open
+    stall_gap, risen, lost_at = _grasp_lift_hold(world, motion, GraspConfig())
+    assert world.model.opt.noslip_iterations == sim.noslip_hold_iterations
+    assert lost_at is None and risen > LIFT_M - 0.002
+    assert abs(world.finger_gap_m - stall_gap) < 0.001
+    world.set_gripper(0.08)
+    world.step()
+    assert world.model.opt.noslip_iterations == 0  # released
