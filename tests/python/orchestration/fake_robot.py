@@ -185,6 +185,7 @@ class FakeMotion:
         ik = SimpleNamespace(fk_tcp=lambda q: np.array([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, q[0]], [0, 0, 0, 1.0]]))
         self.planner = SimpleNamespace(set_finger_opening=lambda m: None, model=model, config=config, ik=ik)
         self.lines_blocked_below_z_m = -np.inf
+        self.poses_blocked_below_z_m = -np.inf  # joint-space goals lower than this are refused
         self.stop_kinds: dict[str, float] = {}
         self.stop_held_up_m: dict[str, float] = {}  # {kind: m}: that stop is the arm not following, held up this much
         self.obstacles: dict = {}
@@ -206,6 +207,10 @@ class FakeMotion:
         pass
 
     def plan_pose(self, T, q_from=None, frame="tcp"):
+        if np.asarray(T)[2, 3] < self.poses_blocked_below_z_m:
+            from grasp_pipeline.motion.exceptions import PlanningFailedError
+
+            raise PlanningFailedError("pose within a clearance (fake)")
         return FakeTrajectory(np.asarray(T))
 
     def plan_line(self, T, q_from=None, frame="tcp", allow_target_contact=False):

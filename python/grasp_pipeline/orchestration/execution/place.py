@@ -13,7 +13,9 @@ PLACE (parameters: ``config/place.yaml``):
    turned in the fingers since it was grasped hangs lower than the planner's model of it);
    lower only where no spot can be reached so high;
 4. lower it until its bottom is ``release_clearance_m`` above what is under it, or as far as
-   the planner lets the line go. It is never released higher than ``release_max_drop_m`` above
+   the planner lets the line go; where it stops the straight line higher (a wrist singularity
+   on the way down), a joint-space motion to the same low pose, if one can be planned (the
+   held object is in the planner's world). It is never released higher than ``release_max_drop_m`` above
    what is under it: a lowering that stops higher (refused by the planner, or stopped by a
    contact, a tracking error or a settle timeout) backs up and tries the next spot, up to
    ``lower_attempts`` spots, then PLACE fails — except a touchdown: a lowering stopped by a
@@ -221,9 +223,13 @@ def _lower(action, out: GraspOutcome, T_above: np.ndarray, shape: HeldShape, not
     tray = tray_contents(action)
     bottom = shape.bottom_m(T_above[:3, :3])
     support = _support_z_m(tray, shape, T_above)
-    traj, z_low, why = lowest_line(motion, T_above, support + cfg.release_clearance_m + bottom,
-                                   cfg.lower_step_m)
+    z_goal = support + cfg.release_clearance_m + bottom
+    traj, z_low, why = lowest_line(motion, T_above, z_goal, cfg.lower_step_m)
     where = f"({T_above[0, 3]:.3f}, {T_above[1, 3]:.3f})"
+    if z_low - bottom - support > cfg.release_max_drop_m:
+        traj, z_low, why = _lower_in_joint_space(motion, T_above, z_goal, (traj, z_low, why),
+                                                 f"at {where} the straight line stops "
+                                                 f"{(z_low - bottom - support) * 1e3:.0f} mm up")
     if z_low - bottom - support > cfg.release_max_drop_m:
         notes.append(f"at {where} the planner stops the lowering {(z_low - bottom - support) * 1e3:.0f} "
                      f"mm above what is under the object ({why})")
@@ -257,6 +263,20 @@ def _lower(action, out: GraspOutcome, T_above: np.ndarray, shape: HeldShape, not
         log.info("the lowering stopped %.0f mm above what is under the object (%s); releasing "
                  "there", drop * 1e3, exc)
     return True
+
+
+def _lower_in_joint_space(motion, T_above: np.ndarray, z_goal_m: float, line: tuple, where: str) -> tuple:
+    """(trajectory, z reached, why not lower) of a joint-space motion from ``T_above`` down to
+    ``z_goal_m`` — where the straight line crosses a wrist singularity on the way down; the
+    line's ``(trajectory, z, why)`` when that cannot be planned either."""
+    T_low = np.asarray(T_above, float).copy()
+    T_low[2, 3] = z_goal_m
+    try:
+        traj = motion.plan_pose(T_low)
+    except MotionError as exc:
+        return line[0], line[1], f"{line[2]}; joint-space: {exc}"
+    log.info("lowering: %s (%s); a joint-space motion instead", where, line[2])
+    return traj, z_goal_m, ""
 
 
 def hand_held_up_m(planner, exc: Exception) -> float:

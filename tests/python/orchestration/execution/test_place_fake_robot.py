@@ -69,6 +69,7 @@ def test_a_lowering_stopped_high_by_the_planner_never_releases_there_and_fails_a
     robot = FakeRobot(object_width_m=0.05)
     motion = FakeMotion(robot)
     motion.lines_blocked_below_z_m = FLOOR_Z + 0.10  # the bottom could not come below 75 mm
+    motion.poses_blocked_below_z_m = FLOOR_Z + 0.10  # ... by any motion
     out, motion, action, releases = run_place(robot, motion)
     assert not out.placed and out.failed_stage == "PLACE"
     assert ("could not lower the object to within 30 mm of what lies under it at "
@@ -154,3 +155,15 @@ def test_a_carry_up_out_of_reach_carries_from_where_the_arm_is():
     out, motion, action, releases = run_place(robot, motion)
     assert out.success and out.placed, out.message
     assert "carry_up" not in [k for k, _ in motion.executed]
+
+
+def test_a_straight_lowering_the_planner_stops_high_goes_down_in_joint_space():
+    # the straight line down crosses a wrist singularity 75 mm up; a joint-space motion to the
+    # same low pose can be planned
+    robot = FakeRobot(object_width_m=0.05)
+    motion = FakeMotion(robot)
+    motion.lines_blocked_below_z_m = FLOOR_Z + 0.10
+    out, motion, action, releases = run_place(robot, motion)
+    assert out.success and out.placed, out.message
+    assert [k for k, _ in motion.executed].count("place_down") == 1
+    assert bottom_above_floor_m(releases[0], action) == pytest.approx(CFG.release_clearance_m, abs=1e-6)
