@@ -45,6 +45,16 @@ def bottom_above_floor_m(tcp_xyz, action):
     return tcp_xyz[2] - BOTTOM_BELOW_TCP_M - FLOOR_Z
 
 
+def run_place_blocked_below(lines_z_m: float, poses_z_m: float = -np.inf):
+    """PLACE where the planner refuses straight lines (and joint-space goals) ending lower
+    than the given TCP heights."""
+    robot = FakeRobot(object_width_m=0.05)
+    motion = FakeMotion(robot)
+    motion.lines_blocked_below_z_m = lines_z_m
+    motion.poses_blocked_below_z_m = poses_z_m
+    return run_place(robot, motion)
+
+
 def test_a_plain_place_releases_low_and_sees_the_object_arrive():
     out, motion, action, releases = run_place(FakeRobot(object_width_m=0.05))
     assert out.success and out.placed, out.message
@@ -55,22 +65,16 @@ def test_a_plain_place_releases_low_and_sees_the_object_arrive():
 
 
 def test_a_lowering_the_planner_stops_a_little_early_releases_at_the_lowest_plannable_height():
-    robot = FakeRobot(object_width_m=0.05)
-    motion = FakeMotion(robot)
     # lines ending less than 47 mm above the floor are refused: the object's bottom 22 mm up
-    motion.lines_blocked_below_z_m = FLOOR_Z + 0.047
-    out, motion, action, releases = run_place(robot, motion)
+    out, motion, action, releases = run_place_blocked_below(FLOOR_Z + 0.047)
     assert out.success and out.placed, out.message
     drop = bottom_above_floor_m(releases[0], action)
     assert 0.022 <= drop <= 0.022 + CFG.lower_step_m and drop <= CFG.release_max_drop_m
 
 
 def test_a_lowering_stopped_high_by_the_planner_never_releases_there_and_fails_after_the_attempts():
-    robot = FakeRobot(object_width_m=0.05)
-    motion = FakeMotion(robot)
-    motion.lines_blocked_below_z_m = FLOOR_Z + 0.10  # the bottom could not come below 75 mm
-    motion.poses_blocked_below_z_m = FLOOR_Z + 0.10  # ... by any motion
-    out, motion, action, releases = run_place(robot, motion)
+    # the bottom could not come below 75 mm, by any motion
+    out, motion, action, releases = run_place_blocked_below(FLOOR_Z + 0.10, FLOOR_Z + 0.10)
     assert not out.placed and out.failed_stage == "PLACE"
     assert ("could not lower the object to within 30 mm of what lies under it at "
             f"{CFG.lower_attempts} spot(s)") in out.message
@@ -160,10 +164,7 @@ def test_a_carry_up_out_of_reach_carries_from_where_the_arm_is():
 def test_a_straight_lowering_the_planner_stops_high_goes_down_in_joint_space():
     # the straight line down crosses a wrist singularity 75 mm up; a joint-space motion to the
     # same low pose can be planned
-    robot = FakeRobot(object_width_m=0.05)
-    motion = FakeMotion(robot)
-    motion.lines_blocked_below_z_m = FLOOR_Z + 0.10
-    out, motion, action, releases = run_place(robot, motion)
+    out, motion, action, releases = run_place_blocked_below(FLOOR_Z + 0.10)
     assert out.success and out.placed, out.message
     assert [k for k, _ in motion.executed].count("place_down") == 1
     assert bottom_above_floor_m(releases[0], action) == pytest.approx(CFG.release_clearance_m, abs=1e-6)
