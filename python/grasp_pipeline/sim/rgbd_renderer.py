@@ -23,6 +23,7 @@ import mujoco
 import numpy as np
 from mujoco import gl_context
 
+from .draw_order import DrawOrder
 from .exceptions import RenderUnavailable
 
 
@@ -49,15 +50,16 @@ class RgbdRenderer:
         self._rect = mujoco.MjrRect(0, 0, self.width, self.height)
         self._gl = context_cls(self.width, self.height)
         self._gl.make_current()
-        self._mjr = mujoco.MjrContext(model, mujoco.mjtFontScale.mjFONTSCALE_150)
+        self._mjr = _context_of_image_size(model, self.width, self.height)
         mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self._mjr)
         self._mjr.readDepthMap = mujoco.mjtDepthMap.mjDEPTH_ZEROFAR
+        self._draw = DrawOrder(model, self._option, self.width / self.height)
 
     def update_scene(self, data: mujoco.MjData, camera_id: int) -> None:
-        """Take the geometry of ``data`` as seen from the model camera ``camera_id``."""
+        """Take the geometry of ``data`` as seen from the model camera ``camera_id`` (the geoms
+        that can reach a pixel, planes last: :mod:`.draw_order`)."""
         self._camera.fixedcamid = int(camera_id)
-        mujoco.mjv_updateScene(self.model, data, self._option, None, self._camera,
-                               mujoco.mjtCatBit.mjCAT_ALL, self.scene)
+        self._draw.update_scene(data, self._camera, self.scene)
 
     def render(self, rgb: bool = True) -> tuple[np.ndarray, Optional[np.ndarray]]:
         """One pass: ``(depth, colour)`` — depth (H, W) float32 [m] along the optical axis,
@@ -130,6 +132,20 @@ class RgbdRenderer:
         z64 += c_coef
         np.divide(d_coef, z64, out=z64)
         return z64.astype(np.float32)
+
+
+def _context_of_image_size(model: mujoco.MjModel, width_px: int, height_px: int
+                           ) -> mujoco.MjrContext:
+    """A MuJoCo rendering context whose offscreen buffer is the image's size (the model's
+    ``offwidth/offheight`` may be larger, for videos: a larger buffer is cleared and resolved
+    whole on every frame)."""
+    vis = model.vis.global_
+    saved = int(vis.offwidth), int(vis.offheight)
+    vis.offwidth, vis.offheight = int(width_px), int(height_px)
+    try:
+        return mujoco.MjrContext(model, mujoco.mjtFontScale.mjFONTSCALE_150)
+    finally:
+        vis.offwidth, vis.offheight = saved
 
 
 _OWNED_CONTEXT: dict[type, type] = {}
