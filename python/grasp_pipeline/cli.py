@@ -299,9 +299,11 @@ def main(argv: list[str] | None = None) -> int:
 
     setup_logging(getattr(logging, args.log_level))
     if _uses_mujoco(args):  # before anything imports mujoco: the GL backend is chosen then
+        from .process_memory import keep_large_allocations
         from .sim.gl_backend import configure_gl
 
         configure_gl()
+        keep_large_allocations()
     try:
         return _run(args)
     except GraspPipelineError as exc:

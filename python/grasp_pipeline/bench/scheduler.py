@@ -64,8 +64,10 @@ def _worker_main(conn, run_fn, log_level: int, tag: str) -> None:
     """Entry point of a spawned worker: run the jobs it is sent, one at a time, until it is sent
     ``None``; each job's record goes back with the CPU time the job cost this process."""
     from ..logs import retag_logging, setup_logging
+    from ..process_memory import keep_large_allocations
 
     setup_logging(log_level, tag=f"[{tag}] ")
+    keep_large_allocations()
     cpu_before = 0.0  # the first job carries the start-up (interpreter, imports)
     try:
         while (task := conn.recv()) is not None:
