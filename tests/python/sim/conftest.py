@@ -67,3 +67,60 @@ def make_world():
     yield factory
     for w in worlds:
         w.close()
+
+
+@pytest.fixture
+def renderer_pair():
+    """``make(model, h, w) -> (ours, theirs)``: an :class:`RgbdRenderer` and MuJoCo's own
+    ``mujoco.Renderer`` of the same size, both without shadows, reflections and skybox (as the
+    camera renders); skips only where the session disabled GL. Both are closed afterwards."""
+    import os
+
+    import mujoco
+
+    from grasp_pipeline.sim.exceptions import RenderUnavailable
+    from grasp_pipeline.sim.gl_backend import GL_OFF_VALUES, new_renderer
+    from grasp_pipeline.sim.rgbd_renderer import RgbdRenderer
+
+    made = []
+
+    def make(model, h: int, w: int):
+        try:
+            ours = new_renderer(model, h, w, RgbdRenderer)
+            theirs = new_renderer(model, h, w)
+        except RenderUnavailable:
+            if os.environ.get("MUJOCO_GL", "").strip().lower() not in GL_OFF_VALUES:
+                pytest.fail("no GL renderer although GL was not disabled")
+            pytest.skip("MUJOCO_GL disables GL in this test session")
+        for r in (ours, theirs):
+            for flag in (mujoco.mjtRndFlag.mjRND_SHADOW, mujoco.mjtRndFlag.mjRND_REFLECTION,
+                         mujoco.mjtRndFlag.mjRND_SKYBOX):
+                r.scene.flags[flag] = 0
+        made.extend([ours, theirs])
+        return ours, theirs
+
+    yield make
+    for r in made:
+        r.close()
+
+
+def mujoco_passes(renderer, data, camera_id: int):
+    """MuJoCo's own depth, colour and segmentation passes of a ``mujoco.Renderer``: (depth
+    (H, W) float32, colour (H, W, 3) uint8, geom id per pixel (H, W), -1 for none)."""
+    import mujoco
+
+    renderer.update_scene(data, camera=camera_id)
+    renderer.enable_depth_rendering()
+    depth = renderer.render().copy()
+    renderer.disable_depth_rendering()
+    colour = renderer.render().copy()
+    renderer.enable_segmentation_rendering()
+    seg = renderer.render().copy()
+    renderer.disable_segmentation_rendering()
+    return depth, colour, np.where(seg[..., 1] == int(mujoco.mjtObj.mjOBJ_GEOM), seg[..., 0], -1)
+
+
+@pytest.fixture
+def full_scene_passes():
+    """:func:`mujoco_passes` as a fixture."""
+    return mujoco_passes

@@ -5,7 +5,6 @@ bit for bit, from views where the arm's own links lie on the frustum's edges."""
 from __future__ import annotations
 
 import math
-import os
 
 import mujoco
 import numpy as np
@@ -13,9 +12,6 @@ import pytest
 
 from grasp_pipeline.robot.description import CAMERA_NAME
 from grasp_pipeline.sim.draw_order import DrawOrder, out_of_view
-from grasp_pipeline.sim.exceptions import RenderUnavailable
-from grasp_pipeline.sim.gl_backend import GL_OFF_VALUES, new_renderer
-from grasp_pipeline.sim.rgbd_renderer import RgbdRenderer
 from grasp_pipeline.sim.scenes import reference_scene
 
 H, W = 96, 128
@@ -59,51 +55,26 @@ def test_hidden_group_must_be_off_in_the_options(make_world):
         DrawOrder(world.model, option, 4 / 3)
 
 
-def _renderers(model):
-    try:
-        ours = new_renderer(model, H, W, RgbdRenderer)
-        theirs = new_renderer(model, H, W)
-    except RenderUnavailable:
-        if os.environ.get("MUJOCO_GL", "").strip().lower() not in GL_OFF_VALUES:
-            pytest.fail("no GL renderer although GL was not disabled")
-        pytest.skip("MUJOCO_GL disables GL in this test session")
-    for r in (ours, theirs):
-        for flag in (mujoco.mjtRndFlag.mjRND_SHADOW, mujoco.mjtRndFlag.mjRND_REFLECTION,
-                     mujoco.mjtRndFlag.mjRND_SKYBOX):
-            r.scene.flags[flag] = 0
-    return ours, theirs
-
-
 @pytest.mark.parametrize("joint, offset_rad", [(None, 0.0), (0, 0.6), (3, -0.5), (5, 0.7), (6, 1.2)])
-def test_culled_and_reordered_scene_renders_the_same_images(make_world, joint, offset_rad):
+def test_culled_and_reordered_scene_renders_the_same_images(make_world, renderer_pair,
+                                                           full_scene_passes, joint, offset_rad):
     world = make_world(reference_scene(), camera=False)
     if joint is not None:
         world.data.qpos[joint] += offset_rad
     mujoco.mj_forward(world.model, world.data)
     cam = world.model.camera(CAMERA_NAME).id
     groups = world.model.geom_group.copy()
-    ours, theirs = _renderers(world.model)
-    try:
-        theirs.update_scene(world.data, camera=cam)
-        full = theirs.scene.ngeom
-        theirs.enable_depth_rendering()
-        depth = theirs.render().copy()
-        theirs.disable_depth_rendering()
-        colour = theirs.render().copy()
-        theirs.enable_segmentation_rendering()
-        seg = theirs.render().copy()
-        geoms = np.where(seg[..., 1] == int(mujoco.mjtObj.mjOBJ_GEOM), seg[..., 0], -1)
+    ours, theirs = renderer_pair(world.model, H, W)
+    depth, colour, geoms = full_scene_passes(theirs, world.data, cam)
+    full = theirs.scene.ngeom
 
-        ours.update_scene(world.data, cam)
-        assert np.array_equal(world.model.geom_group, groups)  # restored
-        drawn = [ours.scene.geoms[i] for i in range(ours.scene.ngeom)]
-        assert len(drawn) < full  # links out of view were left out
-        plane = int(mujoco.mjtGeom.mjGEOM_PLANE)
-        kinds = [int(g.type) == plane for g in drawn]
-        assert kinds[-1] and kinds == sorted(kinds)  # the floor last
-        z, rgb = ours.render(rgb=True)
-        assert np.array_equal(z, depth) and np.array_equal(rgb, colour)
-        assert np.array_equal(ours.segmentation(), geoms)
-    finally:
-        ours.close()
-        theirs.close()
+    ours.update_scene(world.data, cam)
+    assert np.array_equal(world.model.geom_group, groups)  # restored
+    drawn = [ours.scene.geoms[i] for i in range(ours.scene.ngeom)]
+    assert len(drawn) < full  # links out of view were left out
+    plane = int(mujoco.mjtGeom.mjGEOM_PLANE)
+    kinds = [int(g.type) == plane for g in drawn]
+    assert kinds[-1] and kinds == sorted(kinds)  # the floor last
+    z, rgb = ours.render(rgb=True)
+    assert np.array_equal(z, depth) and np.array_equal(rgb, colour)
+    assert np.array_equal(ours.segmentation(), geoms)
