@@ -110,9 +110,41 @@ py::array_t<float> depth_to_world_points_py(const py::object& depth, const py::o
   return points;
 }
 
+py::array_t<float> metric_depth_py(const py::object& raw, float c_coef, float d_coef) {
+  py::array in = checked<float>(raw, "raw", {-1, -1}, false);
+  const py::ssize_t h = in.shape(0), w = in.shape(1);
+  py::array_t<float> out({h, w});
+  const auto* ip = static_cast<const float*>(in.data());
+  float* op = out.mutable_data();
+  {
+    py::gil_scoped_release release;
+    metric_depth(static_cast<int>(h), static_cast<int>(w), ip, c_coef, d_coef, op);
+  }
+  return out;
+}
+
+void add_quadratic_depth_noise_py(const py::object& z, const py::object& noise, float ref_range,
+                                  float sigma_at_ref) {
+  py::array zs = checked<float>(z, "z", {-1, -1}, false);
+  py::array ns = checked<float>(noise, "noise", {zs.shape(0), zs.shape(1)}, true);
+  const auto* zp = static_cast<const float*>(zs.data());
+  float* np_ = static_cast<float*>(ns.mutable_data());
+  const auto n = static_cast<std::size_t>(zs.shape(0) * zs.shape(1));
+  py::gil_scoped_release release;
+  add_quadratic_depth_noise(n, zp, ref_range, sigma_at_ref, np_);
+}
+
 }  // namespace
 
 void bind_depth_image(py::module_& m) {
+  m.def("metric_depth", &metric_depth_py, py::arg("raw"), py::arg("c_coef"), py::arg("d_coef"),
+        "(H, W) float32 metres along the optical axis from a perspective render's (H, W) float32 "
+        "depth buffer (rows bottom to top): float(d_coef / (raw + c_coef)) in float64, rows "
+        "flipped to top to bottom (mujoco.Renderer's linearisation).");
+  m.def("add_quadratic_depth_noise", &add_quadratic_depth_noise_py, py::arg("z"), py::arg("noise"),
+        py::arg("ref_range"), py::arg("sigma_at_ref"),
+        "In place on noise (H, W) float32, holding standard normal draws: noise = noise * "
+        "(((z / ref_range) ** 2) * sigma_at_ref) + z, float32 operations in this order.");
   m.def("mask_invalid_and_grazing", &mask_invalid_and_grazing_py, py::arg("depth"), py::arg("invalid"),
         py::arg("x"), py::arg("y"), py::arg("ray_norm2"), py::arg("fx"), py::arg("fy"),
         py::arg("cos2_max"),

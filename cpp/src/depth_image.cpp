@@ -85,4 +85,26 @@ void depth_to_world_points(const DepthImageGeometry& g, const float* R, const fl
   }
 }
 
+void metric_depth(int height, int width, const float* raw, float c_coef, float d_coef, float* out) {
+  const double c = static_cast<double>(c_coef), d = static_cast<double>(d_coef);
+  for (int v = 0; v < height; ++v) {
+    const float* __restrict in = raw + static_cast<std::size_t>(height - 1 - v) * width;
+    float* __restrict o = out + static_cast<std::size_t>(v) * width;
+    for (int u = 0; u < width; ++u) o[u] = static_cast<float>(d / (static_cast<double>(in[u]) + c));
+  }
+}
+
+void add_quadratic_depth_noise(std::size_t n, const float* z, float ref_range, float sigma_at_ref,
+                               float* noise) {
+  const float* __restrict zr = z;
+  float* __restrict out = noise;
+  for (std::size_t p = 0; p < n; ++p) {
+    float sigma = zr[p] / ref_range;
+    sigma = sigma * sigma;
+    sigma = sigma * sigma_at_ref;
+    const float scaled = out[p] * sigma;
+    out[p] = scaled + zr[p];
+  }
+}
+
 }  // namespace grasp_core

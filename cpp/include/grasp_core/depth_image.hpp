@@ -7,6 +7,7 @@
 // bit whichever computes them.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 namespace grasp_core {
@@ -33,5 +34,18 @@ void mask_invalid_and_grazing(const DepthImageGeometry& g, float cos2_max, float
 /// (R row-major 3x3 and t: the camera's world pose, float32).
 void depth_to_world_points(const DepthImageGeometry& g, const float* R, const float* t,
                            float* z, const std::uint8_t* invalid, float* points);
+
+/// The depth buffer of a perspective render (reversed-Z values, rows bottom to top, H x W)
+/// as metres along the optical axis, rows top to bottom:
+/// out[v][u] = float(double(d_coef) / (double(raw[H-1-v][u]) + double(c_coef))) —
+/// mujoco.Renderer's linearisation (float32 coefficients, float64 division).
+void metric_depth(int height, int width, const float* raw, float c_coef, float d_coef, float* out);
+
+/// The sensor's depth noise added to z in one pass, the normal draws given:
+/// sigma = ((z / ref_range) ^ 2) * sigma_at_ref, noise[p] = noise[p] * sigma + z[p]
+/// (float32, in this order; the quadratic law of grasp_pipeline.robot.depth_noise with
+/// exponent 2). `noise` holds the standard normal draws on entry and the noisy depth on exit.
+void add_quadratic_depth_noise(std::size_t n, const float* z, float ref_range, float sigma_at_ref,
+                               float* noise);
 
 }  // namespace grasp_core

@@ -508,10 +508,14 @@ class DepthCamera:
         """``z`` (H, W) float32 plus the sensor's noise: a normal draw per pixel (all of them,
         in order) times ``sigma (z / ref) ** exponent``."""
         noise = self.depth_noise
+        out = self._rng.standard_normal(z.shape, dtype=np.float32)
+        if float(noise.depth_noise_exponent) == 2.0:  # the quadratic law: one fused C++ pass
+            _core.add_quadratic_depth_noise(z, out, float(np.float32(noise.depth_noise_ref_range_m)),
+                                            float(np.float32(noise.depth_noise_sigma_m)))
+            return out
         sigma = z / np.float32(noise.depth_noise_ref_range_m)
         sigma **= np.float32(noise.depth_noise_exponent)
         sigma *= np.float32(noise.depth_noise_sigma_m)
-        out = self._rng.standard_normal(z.shape, dtype=np.float32)
         out *= sigma
         out += z
         return out

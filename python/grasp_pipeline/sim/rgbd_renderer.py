@@ -23,6 +23,8 @@ import mujoco
 import numpy as np
 from mujoco import gl_context
 
+from .. import _core
+
 from .draw_order import DrawOrder
 from .exceptions import RenderUnavailable
 
@@ -69,7 +71,7 @@ class RgbdRenderer:
         raw = np.empty((self.height, self.width), dtype=np.float32)
         colour = np.empty((self.height, self.width, 3), dtype=np.uint8) if rgb else None
         mujoco.mjr_readPixels(colour, raw, self._rect, self._mjr)
-        depth = self._metric_depth(raw[::-1])
+        depth = self._metric_depth(raw)
         return depth, None if colour is None else np.ascontiguousarray(colour[::-1])
 
     def segmentation(self) -> np.ndarray:
@@ -118,7 +120,8 @@ class RgbdRenderer:
         self._gl.make_current()
 
     def _metric_depth(self, raw: np.ndarray) -> np.ndarray:
-        """Reversed-Z depth-buffer values -> metres, with ``mujoco.Renderer``'s arithmetic."""
+        """Reversed-Z depth-buffer values (rows bottom to top, as read) -> metres along the
+        optical axis, rows top to bottom, with ``mujoco.Renderer``'s arithmetic."""
         extent = self.model.stat.extent
         zfar = np.float32(self.model.vis.map.zfar * extent)
         znear = np.float32(self.model.vis.map.znear * extent)
@@ -126,12 +129,10 @@ class RgbdRenderer:
         d_coef = -(np.float32(2) * zfar * znear) / (zfar - znear)
         c_coef = np.float32(-0.5) * c_coef - np.float32(0.5)
         d_coef = np.float32(-0.5) * d_coef
-        z64 = raw.astype(np.float64)
         if self.scene.camera[0].orthographic:  # linear depth map
-            return (zfar - z64 * (zfar - znear)).astype(np.float32)
-        z64 += c_coef
-        np.divide(d_coef, z64, out=z64)
-        return z64.astype(np.float32)
+            return (zfar - raw[::-1].astype(np.float64) * (zfar - znear)).astype(np.float32)
+        # float(d / (raw + c)) in float64, rows flipped: one C++ pass
+        return _core.metric_depth(raw, float(c_coef), float(d_coef))
 
 
 def _context_of_image_size(model: mujoco.MjModel, width_px: int, height_px: int

@@ -1,7 +1,8 @@
 """The C++ per-pixel passes of the simulated camera (``_core.mask_invalid_and_grazing``,
-``_core.depth_to_world_points``) refuse bad arrays with a clear error instead of reading out
-of bounds; that their results equal the numpy formulation bit for bit is tested on whole
-frames in test_sim_camera.py."""
+``_core.depth_to_world_points``, ``_core.metric_depth``, ``_core.add_quadratic_depth_noise``)
+refuse bad arrays with a clear error instead of reading out of bounds; the last two equal
+their numpy formulations bit for bit here, the first two on whole frames in
+test_sim_camera.py."""
 
 import numpy as np
 import pytest
@@ -54,3 +55,46 @@ def test_a_read_only_depth_is_refused():
     with pytest.raises(ValueError, match="read-only"):
         _core.depth_to_world_points(z, invalid, x, y, np.eye(3, dtype=np.float32),
                                     np.zeros(3, dtype=np.float32))
+
+
+def _numpy_noise(z, draws, ref, sigma):
+    """The camera's numpy formulation of the quadratic depth noise."""
+    s = z / np.float32(ref)
+    s **= np.float32(2.0)
+    s *= np.float32(sigma)
+    out = draws.copy()
+    out *= s
+    out += z
+    return out
+
+
+def test_noise_pass_equals_the_numpy_formulation_bit_for_bit():
+    rng = np.random.default_rng(3)
+    z = rng.uniform(0.05, 3.0, (48, 64)).astype(np.float32)
+    z[0, :5] = [np.nan, 0.12, 3.0, 1e-3, np.float32(0.4)]
+    draws = rng.standard_normal(z.shape, dtype=np.float32)
+    out = draws.copy()
+    _core.add_quadratic_depth_noise(z, out, float(np.float32(0.4)), float(np.float32(0.002)))
+    assert np.array_equal(out, _numpy_noise(z, draws, 0.4, 0.002), equal_nan=True)
+    assert not np.array_equal(out, z + draws * 0.002)  # the law is not a constant sigma
+
+
+def test_metric_depth_pass_equals_the_numpy_linearisation_bit_for_bit():
+    rng = np.random.default_rng(4)
+    raw = rng.uniform(0.0, 1.0, (48, 64)).astype(np.float32)
+    raw[0, :3] = [0.0, 1.0, 0.5]
+    c, d = np.float32(-0.5037), np.float32(0.0151)
+    z64 = raw[::-1].astype(np.float64)
+    z64 += c
+    np.divide(d, z64, out=z64)
+    assert np.array_equal(_core.metric_depth(raw, float(c), float(d)), z64.astype(np.float32))
+
+
+def test_noise_and_depth_passes_refuse_bad_arrays():
+    z = np.ones((H, W), dtype=np.float32)
+    with pytest.raises(ValueError, match="noise: expected shape"):
+        _core.add_quadratic_depth_noise(z, np.ones((H, W + 1), dtype=np.float32), 0.4, 0.002)
+    with pytest.raises(TypeError, match="noise: expected dtype float32"):
+        _core.add_quadratic_depth_noise(z, np.ones((H, W)), 0.4, 0.002)
+    with pytest.raises(TypeError, match="raw: expected dtype float32"):
+        _core.metric_depth(np.ones((H, W)), -0.5, 0.01)
