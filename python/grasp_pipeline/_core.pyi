@@ -1308,6 +1308,10 @@ class SceneVolume:
         """
         integrate() calls since construction or the last reset()
         """
+def add_quadratic_depth_noise(z: numpy.typing.NDArray[numpy.float32], noise: numpy.typing.NDArray[numpy.float32], ref_range: float, sigma_at_ref: float) -> None:
+    """
+    In place on noise (H, W) float32, holding standard normal draws: noise = noise * (((z / ref_range) ** 2) * sigma_at_ref) + z, float32 operations in this order.
+    """
 def angle_dist_mod_pi(a_rad: float, b_rad: float) -> float:
     ...
 def anisotropy_ratio(ext: Sequence[float]) -> float:
@@ -1369,6 +1373,10 @@ def mask_invalid_and_grazing(depth: numpy.typing.NDArray[numpy.float32], invalid
 def median(values: Sequence[float]) -> float:
     """
     Median; an even count gives the mean of the two middle values.
+    """
+def metric_depth(raw: numpy.typing.NDArray[numpy.float32], c_coef: float, d_coef: float) -> numpy.typing.NDArray[numpy.float32]:
+    """
+    (H, W) float32 metres along the optical axis from a perspective render's (H, W) float32 depth buffer (rows bottom to top): float(d_coef / (raw + c_coef)) in float64, rows flipped to top to bottom (mujoco.Renderer's linearisation).
     """
 def pca_box(points: Points, max_abs_coordinate_m: float = 1000.0) -> PcaBox | None:
     """

@@ -6,9 +6,10 @@ unmapped when freed, so every frame pays for zeroing new pages again — measure
 a clearing round's CPU. :func:`keep_large_allocations` lets the heap serve and keep them
 instead (the process keeps its peak heap, a few hundred megabytes at most for a round).
 
-Python's cyclic garbage collector also runs every few hundred allocations of containers and
-walks every object that lives long (modules, the model, the tracks): :func:`keep_large_allocations`
-moves what exists after start-up out of its sight (``gc.freeze``) and lets it run less often.
+Python's cyclic garbage collector also runs its young-generation pass every few hundred
+allocations of containers (a physics step allocates dozens): :func:`keep_large_allocations`
+lets it run less often. (Nothing is frozen out of its sight: objects of extension modules
+left in cycles must still be reclaimed before the interpreter exits.)
 
 Neither changes a value anything computes: they decide where memory comes from and when
 cyclic garbage is reclaimed (objects are still freed by reference counting at once).
@@ -43,7 +44,6 @@ def keep_large_allocations() -> bool:
     glibc, or switched off by ``GRASP_PIPELINE_TUNE_MEMORY=0``). Call it once the imports are done."""
     if os.environ.get(ENV_VAR, "1").strip() == "0":
         return False
-    gc.freeze()
     _, mid, old = gc.get_threshold()
     gc.set_threshold(GC_YOUNG_THRESHOLD, mid, old)
     return _tune_glibc_malloc()
