@@ -24,7 +24,6 @@ import numpy as np
 from mujoco import gl_context
 
 from .. import _core
-
 from .draw_order import DrawOrder
 from .exceptions import RenderUnavailable
 
