@@ -41,7 +41,8 @@ ENV_VAR = "GRASP_PIPELINE_TUNE_MEMORY"
 
 def keep_large_allocations() -> bool:
     """Apply the settings of the module doc to this process; False where they do not apply (not
-    glibc, or switched off by ``GRASP_PIPELINE_TUNE_MEMORY=0``). Call it once the imports are done."""
+    glibc, or switched off by ``GRASP_PIPELINE_TUNE_MEMORY=0``). Call it once, early: it affects
+    only what is allocated afterwards."""
     if os.environ.get(ENV_VAR, "1").strip() == "0":
         return False
     _, mid, old = gc.get_threshold()
@@ -59,9 +60,10 @@ def _tune_glibc_malloc() -> bool:
     if mallopt is None:
         log.debug("no glibc mallopt here: allocation settings left as they are")
         return False
-    ok = all(mallopt(param, value) == 1 for param, value in (
+    accepted = [mallopt(param, value) == 1 for param, value in (  # each tried, whatever the others
         (_M_MMAP_THRESHOLD, MMAP_THRESHOLD_BYTES), (_M_TRIM_THRESHOLD, TRIM_THRESHOLD_BYTES),
-        (_M_TOP_PAD, TOP_PAD_BYTES)))
+        (_M_TOP_PAD, TOP_PAD_BYTES))]
+    ok = all(accepted)
     if not ok:
         log.debug("mallopt refused a setting: allocation settings partly left as they are")
     return ok
