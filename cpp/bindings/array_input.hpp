@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <initializer_list>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -33,6 +34,39 @@ struct PointsView {
 
 inline std::string describe(const py::handle& obj) {
   return py::str(py::type::of(obj).attr("__name__")).cast<std::string>();
+}
+
+/// `obj` as a C-ordered array of dtype T and the given shape (-1: any size), else an error
+/// that names the argument and the fix.
+template <typename T>
+inline py::array checked(const py::object& obj, const char* name, std::initializer_list<py::ssize_t> shape,
+                         bool writable) {
+  const std::string want = py::str(py::dtype::of<T>()).cast<std::string>();
+  if (!py::isinstance<py::array>(obj))
+    throw py::type_error(std::string(name) + ": expected a numpy array of dtype " + want + ", got " +
+                         describe(obj));
+  py::array arr = py::reinterpret_borrow<py::array>(obj);
+  if (!py::isinstance<py::array_t<T>>(arr))  // numpy's equivalence, not the dtype object's identity
+    throw py::type_error(std::string(name) + ": expected dtype " + want + ", got " +
+                         py::str(arr.dtype()).cast<std::string>() + " (convert with .astype)");
+  bool ok = arr.ndim() == static_cast<py::ssize_t>(shape.size());
+  py::ssize_t i = 0;
+  for (py::ssize_t s : shape) ok = ok && (s < 0 ? arr.shape(i) > 0 : arr.shape(i) == s), ++i;
+  if (!ok) {
+    std::ostringstream os;
+    os << name << ": expected shape (";
+    i = 0;
+    for (py::ssize_t s : shape) os << (i++ ? ", " : "") << (s < 0 ? std::string("n") : std::to_string(s));
+    os << "), got (";
+    for (py::ssize_t k = 0; k < arr.ndim(); ++k) os << (k ? ", " : "") << arr.shape(k);
+    os << ")";
+    throw py::value_error(os.str());
+  }
+  if (!(arr.flags() & py::array::c_style))
+    throw py::value_error(std::string(name) + ": expected a C-ordered array (numpy.ascontiguousarray)");
+  if (writable && !arr.writeable())
+    throw py::value_error(std::string(name) + ": the array is read-only; pass a writable copy");
+  return arr;
 }
 
 /// Reject anything that is not an (N,3) float32/float64 array (name = argument name).

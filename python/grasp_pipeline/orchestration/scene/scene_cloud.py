@@ -14,6 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ... import _core
+
 ENVIRONMENT = -1
 UNTRACKED = -2
 
@@ -51,39 +53,13 @@ class SceneCloud:
 
 def voxel_thin(points: np.ndarray, owner: np.ndarray, voxel_m: float) -> tuple[np.ndarray, np.ndarray]:
     """One point (the first) per (voxel, owner) pair, in the order of their (voxel index x,
-    y, z, owner)."""
+    y, z, owner) — ``np.unique`` over that key with ``return_index``, computed by the C++
+    core's radix sort. ``points``: (N, 3) finite; ``owner``: (N,) integers."""
     if len(points) == 0:
         return points, owner
-    ii = np.floor(points / voxel_m).astype(np.int64)
-    # column by column: a reduction along axis 0 of an (N, 3) array is many times slower
-    ii -= np.array([ii[:, j].min() for j in range(3)])
-    dims = [int(ii[:, j].max()) + 1 for j in range(3)]
-    key = (ii[:, 0] * dims[1] + ii[:, 1]) * dims[2] + ii[:, 2]
-    own = owner.astype(np.int64) - int(owner.min())
-    n_own = int(own.max()) + 1
-    key = key * n_own + own
-    first = _first_of_each(key, dims[0] * dims[1] * dims[2] * n_own)
+    first = _core.first_per_voxel(np.ascontiguousarray(points, dtype=np.float64),
+                                  np.ascontiguousarray(owner, dtype=np.int64), float(voxel_m))
     return np.take(points, first, axis=0), np.take(owner, first)
-
-
-def _first_of_each(key: np.ndarray, n_keys: int) -> np.ndarray:
-    """The position of the first occurrence of each distinct ``key`` (N,) (integers in
-    ``[0, n_keys)``), in increasing key order: ``np.unique(key, return_index=True)[1]``.
-
-    Key and position packed into one int64 are all distinct, so a plain sort (much faster
-    than the stable argsort ``np.unique`` needs) orders them by key, then position."""
-    n = len(key)
-    bits = max(1, (n - 1).bit_length())
-    if n_keys >= 1 << (62 - bits):  # they do not fit one int64
-        return np.unique(key, return_index=True)[1]
-    packed = key << bits
-    packed |= np.arange(n, dtype=np.int64)
-    packed.sort()
-    group = packed >> bits
-    first = np.empty(n, dtype=bool)
-    first[0] = True
-    np.not_equal(group[1:], group[:-1], out=first[1:])
-    return packed[first] & ((1 << bits) - 1)
 
 
 def cloud_from_frame(result, plane, band_m: float, voxel_m: float) -> SceneCloud:

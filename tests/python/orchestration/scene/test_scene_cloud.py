@@ -1,8 +1,10 @@
 """The scene cloud: per-point owners from a frame's labels (cluster → estimate → track)."""
 
+import re
 import types
 
 import numpy as np
+import pytest
 
 from grasp_pipeline.orchestration.scene.scene_cloud import (ENVIRONMENT, UNTRACKED, cloud_from_frame,
                                                          voxel_thin)
@@ -86,3 +88,18 @@ def test_cloud_from_frame_keeps_the_rows_a_full_float_copy_would_keep():
     expected = _unique_thin(full[keep], owner[keep], 0.003)
     np.testing.assert_array_equal(cloud.points, expected[0])
     np.testing.assert_array_equal(cloud.owner, expected[1])
+
+
+def test_the_core_thinning_refuses_bad_arrays_by_name():
+    from grasp_pipeline import _core
+
+    pts, own = np.zeros((4, 3)), np.zeros(4, dtype=np.int64)
+    bad = pts.copy()
+    bad[2, 1] = np.nan
+    cases = [((pts.astype(np.float32), own, 0.01), TypeError, "points: expected dtype float64"),
+             ((pts, own[:3], 0.01), ValueError, "owner: expected shape (4)"),
+             ((bad, own, 0.01), ValueError, "row 2 is not finite"),
+             ((pts, own, 0.0), ValueError, "voxel_m: expected a positive")]
+    for args, exc, text in cases:
+        with pytest.raises(exc, match=re.escape(text)):
+            _core.first_per_voxel(*args)

@@ -1,0 +1,110 @@
+#include "grasp_core/voxel_thin.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+namespace grasp_core {
+
+namespace {
+
+/// Wrapping int64 arithmetic (numpy's): computed on uint64, reinterpreted.
+std::int64_t wrap_mul(std::int64_t a, std::int64_t b) {
+  return static_cast<std::int64_t>(static_cast<std::uint64_t>(a) * static_cast<std::uint64_t>(b));
+}
+std::int64_t wrap_add(std::int64_t a, std::int64_t b) {
+  return static_cast<std::int64_t>(static_cast<std::uint64_t>(a) + static_cast<std::uint64_t>(b));
+}
+
+/// floor(q) as an integer: truncation corrected below zero (no libm call) where q fits.
+inline std::int64_t floor_to_int(double q) {
+  if (!(std::fabs(q) < 4.0e18)) return static_cast<std::int64_t>(std::floor(q));
+  const auto t = static_cast<std::int64_t>(q);
+  return t - (q < static_cast<double>(t) ? 1 : 0);
+}
+
+/// The (voxel, owner) key of every point and the exact number of keys (saturated at 2^100).
+std::vector<std::int64_t> voxel_keys(std::size_t n, const double* points, const std::int64_t* owner,
+                                     double voxel_m, long double* n_keys) {
+  std::vector<std::int64_t> cell(3 * n);
+  std::array<std::int64_t, 3> lo{}, hi{};
+  lo.fill(std::numeric_limits<std::int64_t>::max());
+  hi.fill(std::numeric_limits<std::int64_t>::min());
+  for (std::size_t i = 0; i < n; ++i)
+    for (int j = 0; j < 3; ++j) {
+      const std::int64_t c = floor_to_int(points[3 * i + j] / voxel_m);
+      cell[3 * i + j] = c;
+      lo[j] = std::min(lo[j], c);
+      hi[j] = std::max(hi[j], c);
+    }
+  std::int64_t own_lo = *std::min_element(owner, owner + n);
+  std::int64_t own_hi = *std::max_element(owner, owner + n);
+  std::array<std::int64_t, 3> dims{};
+  for (int j = 0; j < 3; ++j) dims[j] = hi[j] - lo[j] + 1;
+  const std::int64_t n_own = own_hi - own_lo + 1;
+  *n_keys = static_cast<long double>(dims[0]) * dims[1] * dims[2] * n_own;
+  std::vector<std::int64_t> key(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::int64_t* c = &cell[3 * i];
+    std::int64_t k = wrap_add(wrap_mul(c[0] - lo[0], dims[1]), c[1] - lo[1]);
+    k = wrap_add(wrap_mul(k, dims[2]), c[2] - lo[2]);
+    key[i] = wrap_add(wrap_mul(k, n_own), owner[i] - own_lo);
+  }
+  return key;
+}
+
+/// LSD radix sort of values below 2^bits, 11 bits a pass.
+void radix_sort(std::vector<std::uint64_t>& v, int bits) {
+  constexpr int kDigit = 11;
+  constexpr std::size_t kBuckets = std::size_t{1} << kDigit;
+  std::vector<std::uint64_t> tmp(v.size());
+  for (int shift = 0; shift < bits; shift += kDigit) {
+    std::array<std::size_t, kBuckets> count{};
+    for (std::uint64_t x : v) ++count[(x >> shift) & (kBuckets - 1)];
+    std::size_t sum = 0;
+    for (std::size_t& c : count) sum += std::exchange(c, sum);
+    for (std::uint64_t x : v) tmp[count[(x >> shift) & (kBuckets - 1)]++] = x;
+    v.swap(tmp);
+  }
+}
+
+int bit_length(std::uint64_t x) {
+  int b = 0;
+  while (x) ++b, x >>= 1;
+  return b;
+}
+
+}  // namespace
+
+std::vector<std::int64_t> first_per_voxel(std::size_t n, const double* points,
+                                          const std::int64_t* owner, double voxel_m) {
+  std::vector<std::int64_t> first;
+  if (n == 0) return first;
+  long double n_keys = 0;
+  const std::vector<std::int64_t> key = voxel_keys(n, points, owner, voxel_m, &n_keys);
+  const int bits = std::max(1, bit_length(n - 1));
+  if (n_keys >= std::ldexp(1.0L, 62 - bits)) {  // key and position do not pack into 62 bits
+    std::vector<std::pair<std::int64_t, std::int64_t>> kp(n);
+    for (std::size_t i = 0; i < n; ++i) kp[i] = {key[i], static_cast<std::int64_t>(i)};
+    std::sort(kp.begin(), kp.end());
+    for (std::size_t i = 0; i < n; ++i)
+      if (i == 0 || kp[i].first != kp[i - 1].first) first.push_back(kp[i].second);
+    return first;
+  }
+  std::vector<std::uint64_t> packed(n);
+  std::uint64_t top = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    packed[i] = (static_cast<std::uint64_t>(key[i]) << bits) | i;
+    top = std::max(top, packed[i]);
+  }
+  radix_sort(packed, bit_length(top));
+  const std::uint64_t mask = (std::uint64_t{1} << bits) - 1;
+  for (std::size_t i = 0; i < n; ++i)
+    if (i == 0 || (packed[i] >> bits) != (packed[i - 1] >> bits))
+      first.push_back(static_cast<std::int64_t>(packed[i] & mask));
+  return first;
+}
+
+}  // namespace grasp_core
