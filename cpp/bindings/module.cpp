@@ -16,12 +16,12 @@ void bind_collision(py::module_& m);
 void bind_ik(py::module_& m);
 void bind_scene_volume(py::module_& m);
 void bind_depth_image(py::module_& m);
-void bind_voxel_thin(py::module_& m);
+void bind_cloud_passes(py::module_& m);
 }  // namespace grasp_bind
 
 PYBIND11_MODULE(_core, m) {
   m.doc() = "grasp_pipeline perception core (C++17, Eigen, PCL): scene filter, object "
-            "estimates, grasp pose math, tracker, the per-frame Perception entry point, the planning state checker, the arm IK refinement, the scene volume and the simulated depth image's per-pixel passes and the scene cloud's voxel thinning";
+            "estimates, grasp pose math, tracker, the per-frame Perception entry point, the planning state checker, the arm IK refinement, the scene volume and the simulated depth image's per-pixel passes and the passes over whole clouds (voxel thinning, tray cells)";
   grasp_bind::bind_types(m);
   grasp_bind::bind_scene_filter(m);
   grasp_bind::bind_estimate(m);
@@ -31,5 +31,5 @@ PYBIND11_MODULE(_core, m) {
   grasp_bind::bind_ik(m);
   grasp_bind::bind_scene_volume(m);
   grasp_bind::bind_depth_image(m);
-  grasp_bind::bind_voxel_thin(m);
+  grasp_bind::bind_cloud_passes(m);
 }

@@ -1398,6 +1398,10 @@ def planes_close(a: Plane, b: Plane, tol_deg: float, tol_m: float) -> bool:
     """
     method.md §1.5 closeness: normal angle <= tol_deg and height diff <= tol_m
     """
+def points_in_grid_cells(points: numpy.typing.NDArray[numpy.float32] | numpy.typing.NDArray[numpy.float64], center: Sequence[float], axes: numpy.typing.NDArray[numpy.float64], half: Sequence[float], cell_m: float, nu: int, nv: int, lo: Sequence[float], hi: Sequence[float]) -> tuple[numpy.typing.NDArray[numpy.int64], numpy.typing.NDArray[numpy.int64]]:
+    """
+    (rows, cells): the positions (M,) int64 of the points of an (N, 3) float32/float64 cloud with x/y within [lo, hi] and a finite z whose cell of the rotated grid (floor((d0 axes[0, j] + d1 axes[1, j] + half[j]) / cell_m), d = xy - center) lies in nu x nv, in their order, and those cells (M, 2) int64.
+    """
 def scan_angle_rad(t: int, n_theta: int) -> float:
     ...
 def slice_median_top(d: Sequence[float], sigma_m: float, slice_sigmas: float, iters: int) -> float:

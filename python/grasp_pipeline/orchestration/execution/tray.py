@@ -25,6 +25,8 @@ from functools import cached_property
 import numpy as np
 from scipy import ndimage
 
+from ... import _core
+
 from ...motion.object_points import column_tops
 from ...motion.occupancy import OrientedBox
 from ...motion.work_cell import WorkCell, footprint_distance_m
@@ -119,17 +121,20 @@ class TrayGrid:
 
         A whole camera frame mostly lies outside the tray: a bounding test on world x/y (the
         footprint's axis-aligned box, a cell wider on each side) drops those points before
-        the per-point work; the points it keeps are indexed as by :meth:`index`.
+        the per-point work; the points it keeps are indexed as by :meth:`index` (one pass of
+        the C++ core, the same sums in the same order).
         """
         pts = np.asarray(points).reshape(-1, 3)
+        if len(pts) == 0:
+            return np.zeros((0, 3)), np.zeros((0, 2), dtype=np.int64)
+        if pts.dtype not in (np.float32, np.float64):
+            pts = pts.astype(float)
+        g = self.geometry
         lo, hi = self._bounds_xy()
-        x, y = pts[:, 0], pts[:, 1]
-        near = (x >= lo[0]) & (x <= hi[0]) & (y >= lo[1]) & (y <= hi[1])  # NaN: False
-        near &= np.isfinite(pts[:, 2])  # x and y are, within the bounds
-        pts = np.asarray(pts[near], float)
-        ij = self.index(pts[:, :2])
-        ok = self.inside(ij)
-        return pts[ok], ij[ok]
+        nu, nv = self.shape
+        rows, ij = _core.points_in_grid_cells(np.ascontiguousarray(pts), g.center_xy, g.axes, g.half_m,
+                                              self.cell_m, nu, nv, lo, hi)
+        return np.take(pts, rows, axis=0).astype(float, copy=False), ij
 
     def _bounds_xy(self) -> tuple[np.ndarray, np.ndarray]:
         """World x/y box around every cell of the grid (with a cell's margin)."""

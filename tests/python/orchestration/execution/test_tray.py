@@ -1,5 +1,7 @@
 """The tray's contents: released objects dropped onto what is under them, refreshed by looks."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -106,3 +108,46 @@ def test_cells_of_nothing():
     pts, ij = _turned_grid().cells_of(np.zeros((0, 3)))
     assert pts.shape == (0, 3) and ij.shape == (0, 2)
     assert np.isnan(_turned_grid().heights(np.full((4, 3), np.nan))).all()
+
+
+def _cells_by_numpy(grid, points):
+    """The numpy formulation of ``cells_of``: the bounding box on x/y, a finite z, then
+    :meth:`index` and :meth:`inside`."""
+    pts = np.asarray(points).reshape(-1, 3)
+    lo, hi = grid._bounds_xy()
+    x, y = pts[:, 0], pts[:, 1]
+    near = (x >= lo[0]) & (x <= hi[0]) & (y >= lo[1]) & (y <= hi[1]) & np.isfinite(pts[:, 2])
+    pts = np.asarray(pts[near], float)
+    ij = grid.index(pts[:, :2])
+    ok = grid.inside(ij)
+    return pts[ok], ij[ok]
+
+
+def test_cells_of_points_on_cell_edges_and_on_the_bounds():
+    grid = _turned_grid()
+    g = grid.geometry
+    corners = grid.centres().reshape(-1, 2) + 0.5 * grid.cell_m * (g.axes[:, 0] + g.axes[:, 1])
+    lo, hi = grid._bounds_xy()
+    edges = np.r_[corners, np.nextafter(corners, 0.0), [lo, hi, [lo[0], hi[1]], [hi[0], lo[1]]]]
+    pts = np.c_[edges, np.full(len(edges), FLOOR_Z + 0.01)]
+    for frame in (pts, pts.astype(np.float32)):
+        got, expected = grid.cells_of(frame), _cells_by_numpy(grid, frame)
+        for a, b in zip(got, expected):
+            np.testing.assert_array_equal(a, b)
+        assert got[0].dtype == np.float64 and got[1].dtype == np.int64
+
+
+def test_the_core_pass_refuses_bad_arguments_by_name():
+    from grasp_pipeline import _core
+
+    pts, eye = np.zeros((3, 3)), np.eye(2)
+    good = dict(center=[0.3, 0.5], axes=eye, half=[0.1, 0.1], cell_m=0.01, nu=20, nv=20,
+                lo=[0.1, 0.3], hi=[0.5, 0.7])
+    cases = [(dict(points=pts[:, :2].copy()), ValueError, "points: expected shape (n, 3)"),
+             (dict(points=pts.astype(np.int64)), TypeError, "points: expected dtype float64"),
+             (dict(points=pts, center=[np.nan, 0.0]), ValueError, "center: expected two finite"),
+             (dict(points=pts, axes=np.eye(3)), ValueError, "axes: expected shape (2, 2)"),
+             (dict(points=pts, cell_m=0.0), ValueError, "cell_m must be a positive")]
+    for args, exc, text in cases:
+        with pytest.raises(exc, match=re.escape(text)):
+            _core.points_in_grid_cells(**{**good, **args})

@@ -1,0 +1,114 @@
+// Bindings of the passes over whole clouds that the orchestration runs per frame: the voxel
+// thinning of the scene cloud (grasp_core/voxel_thin.hpp) and the tray grid's cells
+// (grasp_core/grid_cells.hpp). The arrays are checked here (dtype, shape, C order, finite
+// where required) and rejected with a TypeError / ValueError naming the argument; the work
+// runs with the GIL released.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "array_input.hpp"
+#include "grasp_core/grid_cells.hpp"
+#include "grasp_core/voxel_thin.hpp"
+
+namespace py = pybind11;
+
+namespace grasp_bind {
+
+namespace {
+
+py::array_t<std::int64_t> first_per_voxel_py(const py::object& points, const py::object& owner,
+                                             double voxel_m) {
+  if (!(voxel_m > 0.0) || !std::isfinite(voxel_m))
+    throw py::value_error("voxel_m: expected a positive finite size in metres, got " +
+                          std::to_string(voxel_m));
+  py::array p = checked<double>(points, "points", {-1, 3}, false);
+  const py::ssize_t n = p.shape(0);
+  py::array o = checked<std::int64_t>(owner, "owner", {n}, false);
+  const auto* pp = static_cast<const double*>(p.data());
+  const auto* op = static_cast<const std::int64_t*>(o.data());
+  for (py::ssize_t i = 0; i < 3 * n; ++i)
+    if (!std::isfinite(pp[i]))
+      throw py::value_error("points: row " + std::to_string(i / 3) +
+                            " is not finite; drop NaN/inf rows before thinning");
+  std::vector<std::int64_t> first;
+  {
+    py::gil_scoped_release release;
+    first = grasp_core::first_per_voxel(static_cast<std::size_t>(n), pp, op, voxel_m);
+  }
+  py::array_t<std::int64_t> out(static_cast<py::ssize_t>(first.size()));
+  std::copy(first.begin(), first.end(), out.mutable_data());
+  return out;
+}
+
+/// Two finite float64 values from a sequence / array (named in errors).
+void pair_of(const py::object& obj, const char* name, double out[2]) {
+  py::array a = checked<double>(py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj), name, {2}, false);
+  const auto* p = static_cast<const double*>(a.data());
+  if (!std::isfinite(p[0]) || !std::isfinite(p[1]))
+    throw py::value_error(std::string(name) + ": expected two finite values");
+  out[0] = p[0], out[1] = p[1];
+}
+
+template <typename T>
+void grid_cells_of(const py::array& pts, const grasp_core::RotatedGrid& g, std::vector<std::int64_t>* rows,
+                   std::vector<std::int64_t>* cells) {
+  const auto* p = static_cast<const T*>(pts.data());
+  const auto n = static_cast<std::size_t>(pts.shape(0));
+  py::gil_scoped_release release;
+  grasp_core::points_in_grid_cells<T>(n, p, g, rows, cells);
+}
+
+py::tuple points_in_grid_cells_py(const py::object& points, const py::object& center,
+                                  const py::object& axes, const py::object& half, double cell_m,
+                                  std::int64_t nu, std::int64_t nv, const py::object& lo,
+                                  const py::object& hi) {
+  grasp_core::RotatedGrid g;
+  pair_of(center, "center", g.center);
+  pair_of(half, "half", g.half);
+  pair_of(lo, "lo", g.lo);
+  pair_of(hi, "hi", g.hi);
+  py::array ax = checked<double>(py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(axes), "axes", {2, 2}, false);
+  std::copy_n(static_cast<const double*>(ax.data()), 4, g.axes);
+  if (!(cell_m > 0.0) || !std::isfinite(cell_m) || nu < 1 || nv < 1)
+    throw py::value_error("cell_m must be a positive size in metres and the shape at least 1 x 1");
+  g.cell_m = cell_m, g.shape[0] = nu, g.shape[1] = nv;
+  std::vector<std::int64_t> rows, cells;
+  const bool f32 = py::isinstance<py::array_t<float>>(points);
+  py::array pts = f32 ? checked<float>(points, "points", {-1, 3}, false)
+                      : checked<double>(points, "points", {-1, 3}, false);
+  if (f32)
+    grid_cells_of<float>(pts, g, &rows, &cells);
+  else
+    grid_cells_of<double>(pts, g, &rows, &cells);
+  py::array_t<std::int64_t> r(static_cast<py::ssize_t>(rows.size()));
+  py::array_t<std::int64_t> c({static_cast<py::ssize_t>(rows.size()), static_cast<py::ssize_t>(2)});
+  std::copy(rows.begin(), rows.end(), r.mutable_data());
+  std::copy(cells.begin(), cells.end(), c.mutable_data());
+  return py::make_tuple(r, c);
+}
+
+}  // namespace
+
+void bind_cloud_passes(py::module_& m) {
+  m.def("first_per_voxel", &first_per_voxel_py, py::arg("points"), py::arg("owner"),
+        py::arg("voxel_m"),
+        "Positions (int64) of the first point of each distinct (voxel, owner) pair of an "
+        "(N, 3) float64 cloud of finite points with (N,) int64 owners, in increasing order of "
+        "the pair's key ((ix * dy + iy) * dz + iz) * n_owner + owner - min(owner), voxel "
+        "indices counted from the cloud's minimum per axis: np.unique(key, return_index=True)[1].");
+  m.def("points_in_grid_cells", &points_in_grid_cells_py, py::arg("points"), py::arg("center"),
+        py::arg("axes"), py::arg("half"), py::arg("cell_m"), py::arg("nu"), py::arg("nv"),
+        py::arg("lo"), py::arg("hi"),
+        "(rows, cells): the positions (M,) int64 of the points of an (N, 3) float32/float64 "
+        "cloud with x/y within [lo, hi] and a finite z whose cell of the rotated grid "
+        "(floor((d0 axes[0, j] + d1 axes[1, j] + half[j]) / cell_m), d = xy - center) lies in "
+        "nu x nv, in their order, and those cells (M, 2) int64.");
+}
+
+}  // namespace grasp_bind
