@@ -10,7 +10,9 @@ interpreter start-up and the imports are paid once per worker, not once per job.
 starts from the state a fresh process would have for it: :func:`.jobs.begin_job` re-seeds OMPL
 (whose random generator is otherwise seeded once per process — a worker that ran an earlier
 job would plan the next one from a different random state), and everything else a job uses is
-built by the job itself; the benchmark tests compare reused workers with fresh processes.
+built by the job itself (its object set: a copy of the set as the process loaded it, see
+:func:`grasp_pipeline.objects.catalog.object_set`); the benchmark tests compare reused workers
+with fresh processes.
 A worker whose job failed, crashed or timed out is never reused. Children inherit
 ``MUJOCO_GL`` (the parent's choice, see :mod:`grasp_pipeline.sim.gl_backend`) and
 ``PYTHONPATH``, and are limited to one thread each (``OMP_NUM_THREADS=1`` and the BLAS

@@ -3,11 +3,18 @@
 ``object_set("builtin")`` is the procedural set that ships with the product
 (:mod:`.builtin`); a folder is read as VGN/GIGA's layout (one URDF per object) or as mesh
 files; a single OBJ/STL/URDF file is a set of one.
+
+A process loads each set once: later calls return copies of the loaded models (a benchmark
+worker runs many rounds of the same set; loading a folder of meshes costs seconds, a copy a
+few milliseconds). A folder is loaded again when any of its files changed (name, size or
+modification time).
 """
 
 from __future__ import annotations
 
+import copy
 import logging
+import os
 from pathlib import Path
 from typing import Iterable
 
@@ -19,7 +26,44 @@ BUILTIN = "builtin"
 
 
 def object_set(source: str | Path) -> list[ObjectModel]:
-    """The objects of ``source`` (see the module doc); MeshError when there are none."""
+    """The objects of ``source`` (see the module doc), each call its own copies (callers may
+    modify them); MeshError when there are none."""
+    key = _set_key(source)
+    models = _LOADED.get(key)
+    if models is None:
+        models = _load(source)
+        _LOADED.clear()  # one set kept: a process runs one set at a time
+        _LOADED[key] = models
+    elif str(source) != BUILTIN:
+        log_notes(models, str(source))
+    return copy.deepcopy(models)
+
+
+#: The set loaded last, by :func:`_set_key`.
+_LOADED: dict[tuple, list[ObjectModel]] = {}
+
+
+def _set_key(source: str | Path) -> tuple:
+    """What identifies a set's content: ``builtin``, or the path and every file under it
+    with its size and modification time (a missing path: its name only, loaded to fail)."""
+    if str(source) == BUILTIN:
+        return (BUILTIN,)
+    path = Path(source).resolve()
+    if not path.exists():
+        return (str(path), None)
+    if path.is_file():
+        st = path.stat()
+        return (str(path), ((path.name, st.st_size, st.st_mtime_ns),))
+    files = []
+    for root, dirs, names in os.walk(path):
+        dirs.sort()
+        for n in sorted(names):
+            st = os.stat(os.path.join(root, n))
+            files.append((os.path.relpath(os.path.join(root, n), path), st.st_size, st.st_mtime_ns))
+    return (str(path), tuple(files))
+
+
+def _load(source: str | Path) -> list[ObjectModel]:
     if str(source) == BUILTIN:
         from .builtin import builtin_objects
 
