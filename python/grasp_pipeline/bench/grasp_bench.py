@@ -7,16 +7,16 @@ Each scene is exactly one ``run_pipeline(scene="random", seed=<scene seed>, vide
 call. The scene seed is derived from ``K`` and the scene index by :func:`scene_seed`, so a
 single scene is reproduced with ``grasp-pipeline run --scene random --seed <scene seed>``.
 
-Processes: every scene runs in its **own** freshly spawned process (``multiprocessing``
-"spawn" start method — MuJoCo's EGL/OSMesa contexts must not be forked), at most ``W`` at a
-time. A fresh process per scene matters for determinism: OMPL's random generator is seeded
-once per process, so a worker that ran an earlier scene would plan the next one from a
-different random state, and the results would depend on the scheduling. Children inherit
-``MUJOCO_GL`` (the parent's choice, see :mod:`grasp_pipeline.sim.gl_backend`) and
-``PYTHONPATH``, and are limited to one thread each (``OMP_NUM_THREADS=1`` and the BLAS
-equivalents), so ``W`` workers use ``W`` cores. A scene that raises is recorded as a failed
-scene with its error; a child that dies (signal, segfault) or exceeds ``scene_timeout_s`` is
-recorded the same way, and the benchmark goes on.
+Processes: scenes run in spawned worker processes (``multiprocessing`` "spawn" start method —
+MuJoCo's EGL/OSMesa contexts must not be forked), at most ``W`` at a time, each worker running
+up to ``jobs_per_worker`` scenes one after the other; every scene starts from the state a fresh
+process would have for it (OMPL's random generator seeded again, see :mod:`.scheduler`), so
+the results do not depend on the scheduling. Children inherit ``MUJOCO_GL`` (the parent's
+choice, see :mod:`grasp_pipeline.sim.gl_backend`) and ``PYTHONPATH``, and are limited to one
+thread each (``OMP_NUM_THREADS=1`` and the BLAS equivalents), so ``W`` workers use ``W``
+cores. A scene that raises is recorded as a failed scene with its error; a child that dies
+(signal, segfault) or exceeds ``scene_timeout_s`` is recorded the same way, and the benchmark
+goes on.
 
 The result (:class:`~.grasp_result.GraspBenchResult`) is deterministic for a seed as far as
 the product is (scenes sorted by index; the JSON is the same apart from the timing fields
