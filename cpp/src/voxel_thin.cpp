@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <utility>
+#include <vector>
 
 namespace grasp_core {
 
@@ -55,17 +56,22 @@ std::vector<std::int64_t> voxel_keys(std::size_t n, const double* points, const 
   return key;
 }
 
-/// LSD radix sort of values below 2^bits, 11 bits a pass.
-void radix_sort(std::vector<std::uint64_t>& v, int bits) {
-  constexpr int kDigit = 11;
-  constexpr std::size_t kBuckets = std::size_t{1} << kDigit;
+/// Stable LSD radix sort of `v` by its bits [lo_bit, hi_bit) (the bits below stay in their
+/// input order among equal keys), at most 13 bits a pass.
+void radix_sort(std::vector<std::uint64_t>& v, int lo_bit, int hi_bit) {
+  const int bits = hi_bit - lo_bit;
+  if (bits <= 0) return;
+  const int passes = (bits + 12) / 13;
+  const int digit = (bits + passes - 1) / passes;
+  const std::uint64_t mask = (std::uint64_t{1} << digit) - 1;
+  std::vector<std::size_t> count(std::size_t{1} << digit);
   std::vector<std::uint64_t> tmp(v.size());
-  for (int shift = 0; shift < bits; shift += kDigit) {
-    std::array<std::size_t, kBuckets> count{};
-    for (std::uint64_t x : v) ++count[(x >> shift) & (kBuckets - 1)];
+  for (int shift = lo_bit; shift < hi_bit; shift += digit) {
+    std::fill(count.begin(), count.end(), 0);
+    for (std::uint64_t x : v) ++count[(x >> shift) & mask];
     std::size_t sum = 0;
     for (std::size_t& c : count) sum += std::exchange(c, sum);
-    for (std::uint64_t x : v) tmp[count[(x >> shift) & (kBuckets - 1)]++] = x;
+    for (std::uint64_t x : v) tmp[count[(x >> shift) & mask]++] = x;
     v.swap(tmp);
   }
 }
@@ -99,7 +105,8 @@ std::vector<std::int64_t> first_per_voxel(std::size_t n, const double* points,
     packed[i] = (static_cast<std::uint64_t>(key[i]) << bits) | i;
     top = std::max(top, packed[i]);
   }
-  radix_sort(packed, bit_length(top));
+  // the positions are already in order and the sort is stable: only the key's bits are sorted
+  radix_sort(packed, bits, bit_length(top));
   const std::uint64_t mask = (std::uint64_t{1} << bits) - 1;
   for (std::size_t i = 0; i < n; ++i)
     if (i == 0 || (packed[i] >> bits) != (packed[i - 1] >> bits))
