@@ -29,6 +29,7 @@ from typing import Optional
 
 import numpy as np
 
+from ..array_rows import rows_where
 from ..orchestration.events import EventBus, FrameEvent, PerceptionEvent, StageEvent
 from ..sim.ground_truth import (NO_OBJECT, FrameLabelsError, enable_frame_labels, frame_labels,
                                 object_truths)
@@ -159,7 +160,7 @@ class ScanSegmentationRecorder:
         valid = np.isfinite(pts[:, 0])
         above = np.zeros(len(pts), dtype=bool)
         if plane is not None:
-            d = pts[valid] @ np.asarray(plane.n, float) + float(plane.c)
+            d = rows_where(pts, valid) @ np.asarray(plane.n, float) + float(plane.c)
             above[np.flatnonzero(valid)] = d > self.band_m
         names = [o.name for o in self.world.scene.objects]
         cam = np.asarray(self.frame.T_world_camera)[:2, 3]

@@ -22,6 +22,7 @@ import time
 import mujoco
 import numpy as np
 
+from ..array_rows import rows_where
 from ..robot import description as rm
 from .cartesian import CartesianPlanner
 from .config import MotionConfig, load_motion_config
@@ -156,7 +157,7 @@ class MotionPlanner:
         r = self.robot.spheres.radius + self.config.self_filter_padding_m
         lo, hi = C.min(0) - r.max(), C.max(0) + r.max()
         near = in_box(pts, lo, hi)
-        if not np.any(near) or not may_touch_spheres(pts[near], C, r):
+        if not np.any(near) or not may_touch_spheres(rows_where(pts, near), C, r):
             return pts
         from scipy.spatial import cKDTree
 

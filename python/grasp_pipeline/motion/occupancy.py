@@ -26,6 +26,7 @@ import numpy as np
 from scipy import ndimage
 from scipy.spatial import cKDTree
 
+from ..array_rows import rows_where
 from .exceptions import EnvironmentCloudError
 from .matmul_blocks import matmul_rows
 
@@ -127,7 +128,7 @@ def _sorted_unique(keys: np.ndarray) -> np.ndarray:
 
 def _rows_where(points: np.ndarray, keep: np.ndarray) -> np.ndarray:
     """``points[keep]``, without the copy when every row is kept."""
-    return points if keep.all() else points[keep]
+    return points if keep.all() else rows_where(points, keep)
 
 
 def distance_field_m(occupied: np.ndarray, voxel_size_m: float) -> np.ndarray:
@@ -282,7 +283,7 @@ class OccupancyMap:
         near = np.abs(pts[:, 0] - box.center[0]) <= half[0]  # column by column: the same test
         for j in (1, 2):
             near &= np.abs(pts[:, j] - box.center[j]) <= half[j]
-        pts = pts[near]
+        pts = rows_where(pts, near)
         pts = pts[~box.contains(pts)]
         # de-duplicate on a fine grid (its rounding is subtracted from the distances)
         f = cleared_cell_m(self.voxel_size_m)

@@ -25,6 +25,7 @@ from typing import Optional, Sequence
 
 import numpy as np
 
+from ..array_rows import rows_where
 from ..robot import description as rm
 from .object_points import PointModel
 from .occupancy import OrientedBox
@@ -134,7 +135,7 @@ class PlanningWorld:
         if self.plane is not None:
             inside &= env @ np.asarray(self.plane.n, float) + float(self.plane.c) > self.band_m
         if np.any(inside):
-            self.environment = env[~inside]
+            self.environment = rows_where(env, ~inside)
             self._env_dirty = True
 
     def detach(self) -> Optional[str]:

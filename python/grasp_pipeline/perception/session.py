@@ -30,6 +30,7 @@ from typing import Optional
 import numpy as np
 
 from .. import _core
+from ..array_rows import rows_where
 from ..robot.depth_noise import DepthNoiseConfig
 from .config import ObbConfig, SceneFilterConfig
 from .workspace import WorkspaceConfig
@@ -80,10 +81,10 @@ class FrameResult:
     def object_points(self) -> tuple[np.ndarray, np.ndarray]:
         """(M, 3) object points and their (M,) group ids."""
         m = self.object_mask
-        return self.points[m], self.labels[m]
+        return rows_where(self.points, m), self.labels[m]
 
     def environment_points(self) -> np.ndarray:
-        return self.points[self.environment_mask]
+        return rows_where(self.points, self.environment_mask)
 
 
 class PerceptionSession:

@@ -26,6 +26,7 @@ import numpy as np
 from scipy import ndimage
 
 from ... import _core
+from ...array_rows import rows_where
 
 from ...motion.object_points import column_tops
 from ...motion.occupancy import OrientedBox
@@ -261,7 +262,7 @@ class TrayContents:
         grid = self.geometry.grid(self.cell_m)
         pts, ij = grid.cells_of(points_world)
         on_wall = grid.dilate(grid.wall_mask(), self.cell_m)[ij[:, 0], ij[:, 1]]
-        pts, ij = pts[~on_wall], ij[~on_wall]
+        pts, ij = rows_where(pts, ~on_wall), rows_where(ij, ~on_wall)
         seen = np.zeros(grid.shape, dtype=bool)
         seen[ij[:, 0], ij[:, 1]] = True
         high = pts[:, 2] - self.geometry.floor_z_m > self.min_height_m

@@ -24,6 +24,7 @@ from typing import Optional
 import numpy as np
 from scipy import ndimage
 
+from ...array_rows import rows_where
 from ...exceptions import GraspPipelineError
 from ...motion.exceptions import MotionError
 from ...robot import description as rm
@@ -148,4 +149,4 @@ def _frames_points(rt, robot, loop, cfg: PlaceConfig):
     finite = np.isfinite(pts[:, 0])  # column by column: the same rows, several times faster
     finite &= np.isfinite(pts[:, 1])
     finite &= np.isfinite(pts[:, 2])
-    return pts[finite]
+    return rows_where(pts, finite)

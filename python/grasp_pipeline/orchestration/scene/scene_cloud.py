@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ... import _core
+from ...array_rows import rows_where
 
 ENVIRONMENT = -1
 UNTRACKED = -2
@@ -41,11 +42,11 @@ class SceneCloud:
         """The points within ``radius_m`` horizontally (world x, y) of ``xy``."""
         d = np.hypot(self.points[:, 0] - float(xy[0]), self.points[:, 1] - float(xy[1]))
         keep = d <= radius_m
-        return SceneCloud(self.points[keep], self.owner[keep], self.plane_n, self.plane_c, self.band_m)
+        return SceneCloud(rows_where(self.points, keep), self.owner[keep], self.plane_n, self.plane_c, self.band_m)
 
     def of(self, tid: int) -> np.ndarray:
         """The points of track ``tid``."""
-        return self.points[self.owner == tid]
+        return rows_where(self.points, self.owner == tid)
 
     def __len__(self) -> int:
         return len(self.points)
