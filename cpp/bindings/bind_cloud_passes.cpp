@@ -1,6 +1,6 @@
 // Bindings of the passes over whole clouds that the orchestration runs per frame: the voxel
 // thinning of the scene cloud (grasp_core/voxel_thin.hpp) and the tray grid's cells
-// (grasp_core/grid_cells.hpp). The arrays are checked here (dtype, shape, C order, finite
+// (grasp_core/grid_cells.hpp) and thin products of points times axes (grasp_core/thin_matmul.hpp). The arrays are checked here (dtype, shape, C order, finite
 // where required) and rejected with a TypeError / ValueError naming the argument; the work
 // runs with the GIL released.
 #include <pybind11/numpy.h>
@@ -14,6 +14,7 @@
 
 #include "array_input.hpp"
 #include "grasp_core/grid_cells.hpp"
+#include "grasp_core/thin_matmul.hpp"
 #include "grasp_core/voxel_thin.hpp"
 
 namespace py = pybind11;
@@ -93,6 +94,27 @@ py::tuple points_in_grid_cells_py(const py::object& points, const py::object& ce
   return py::make_tuple(r, c);
 }
 
+template <typename T>
+py::array thin_matmul_of(const py::object& a_obj, const py::object& b_obj) {
+  py::array a = checked<T>(a_obj, "a", {-1, -1}, false);
+  const py::ssize_t m = a.shape(0), k = a.shape(1);
+  py::array b = checked<T>(b_obj, "b", {k, -1}, false);
+  const py::ssize_t n = b.shape(1);
+  py::array_t<T> out({m, n});
+  const auto* ap = static_cast<const T*>(a.data());
+  const auto* bp = static_cast<const T*>(b.data());
+  T* op = out.mutable_data();
+  py::gil_scoped_release release;
+  grasp_core::thin_matmul<T>(static_cast<std::size_t>(m), static_cast<std::size_t>(k),
+                             static_cast<std::size_t>(n), ap, bp, op);
+  return out;
+}
+
+py::array thin_matmul_py(const py::object& a, const py::object& b) {
+  if (py::isinstance<py::array_t<float>>(a)) return thin_matmul_of<float>(a, b);
+  return thin_matmul_of<double>(a, b);
+}
+
 }  // namespace
 
 void bind_cloud_passes(py::module_& m) {
@@ -102,6 +124,10 @@ void bind_cloud_passes(py::module_& m) {
         "(N, 3) float64 cloud of finite points with (N,) int64 owners, in increasing order of "
         "the pair's key ((ix * dy + iy) * dz + iz) * n_owner + owner - min(owner), voxel "
         "indices counted from the cloud's minimum per axis: np.unique(key, return_index=True)[1].");
+  m.def("thin_matmul", &thin_matmul_py, py::arg("a"), py::arg("b"),
+        "a (M, K) @ b (K, N), both C-ordered float32 or both float64, on the calling thread, "
+        "each element summed in order k = 0, 1, ... without fused multiply-add: the same "
+        "values on every machine and thread count.");
   m.def("points_in_grid_cells", &points_in_grid_cells_py, py::arg("points"), py::arg("center"),
         py::arg("axes"), py::arg("half"), py::arg("cell_m"), py::arg("nu"), py::arg("nv"),
         py::arg("lo"), py::arg("hi"),

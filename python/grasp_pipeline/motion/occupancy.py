@@ -28,7 +28,7 @@ from scipy.spatial import cKDTree
 
 from ..array_rows import rows_where
 from .exceptions import EnvironmentCloudError
-from .matmul_blocks import matmul_rows
+from .thin_matmul import thin_matmul
 
 log = logging.getLogger(__name__)
 
@@ -78,9 +78,9 @@ class OrientedBox:
         return OrientedBox(self.center, self.R, self.extents + 2.0 * pad_m)
 
     def local(self, points: np.ndarray) -> np.ndarray:
-        """(N, 3) the points' coordinates along the box axes, from its centre (in row blocks:
-        :mod:`.matmul_blocks`)."""
-        return matmul_rows(np.asarray(points, dtype=float) - self.center, self.R)
+        """(N, 3) the points' coordinates along the box axes, from its centre
+        (:mod:`.thin_matmul`)."""
+        return thin_matmul(np.asarray(points, dtype=float) - self.center, self.R)
 
     def contains(self, points: np.ndarray) -> np.ndarray:
         """Boolean mask of the points (N, 3) inside the box (axis by axis: the test of

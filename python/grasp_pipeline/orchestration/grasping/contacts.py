@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...motion.matmul_blocks import matmul_rows
+from ...motion.thin_matmul import thin_matmul
 from .candidates import Frames
 from .hand_model import HandModel
 from .target_model import TargetModel
@@ -177,12 +177,12 @@ def _fingers_blocked(dx, Y, Z, y_mid, z_tcp, opening, lim: ContactLimits, hand: 
 
 def _project(points: np.ndarray, frames: Frames):
     """(X, Y, Z) (N, K) float32: the points in every frame's (b, c, a) coordinates, computed
-    once per (approach, closing) pair (in row blocks: :mod:`~grasp_pipeline.motion.matmul_blocks`)
-    and spread to its lines."""
+    once per (approach, closing) pair (:mod:`~grasp_pipeline.motion.thin_matmul`) and spread to
+    its lines."""
     pairs, first = np.unique(frames.pair, return_index=True)
     axes = np.ascontiguousarray(np.concatenate([frames.b[first], frames.c[first], frames.a[first]]).T,
                                 dtype=np.float32)
-    proj = matmul_rows(points.astype(np.float32), axes)  # (N, 3 P)
+    proj = thin_matmul(points.astype(np.float32), axes)  # (N, 3 P)
     col = np.searchsorted(pairs, frames.pair)
     n = len(pairs)
     return proj[:, col], proj[:, n + col], proj[:, 2 * n + col]
@@ -191,14 +191,13 @@ def _project(points: np.ndarray, frames: Frames):
 def _normals_along_closing(normals: np.ndarray, frames: Frames) -> np.ndarray:
     """(N, K) float32 n·c of the points' normals (N, 3) along every frame's closing axis: the
     products of ``normals @ frames.c.T``, computed once per distinct closing axis (frames of
-    one pair share it), with both operands in C order and in row blocks
-    (:func:`~grasp_pipeline.motion.matmul_blocks.matmul_rows`): the same products, element by
-    element."""
+    one pair share it) (:func:`~grasp_pipeline.motion.thin_matmul.thin_matmul`): the same
+    products, element by element."""
     pairs, first, col = np.unique(frames.pair, return_index=True, return_inverse=True)
     axes = frames.c[first]
     if not np.array_equal(axes[col.reshape(-1)], frames.c):  # a pair with several closing axes
         axes, col = frames.c, np.arange(len(frames))
-    prod = matmul_rows(np.asarray(normals, dtype=float), np.ascontiguousarray(axes.T, dtype=float))
+    prod = thin_matmul(np.asarray(normals, dtype=float), np.ascontiguousarray(axes.T, dtype=float))
     # C order, as the product was: the sums over the points run in the same order
     return np.take(prod.astype(np.float32), col.reshape(-1), axis=1)
 

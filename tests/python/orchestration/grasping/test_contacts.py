@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from grasp_pipeline.motion.thin_matmul import thin_matmul
 from grasp_pipeline.orchestration.grasping import contacts
 from grasp_pipeline.orchestration.grasping.candidates import Frames
 from grasp_pipeline.orchestration.grasping.contacts import ContactLimits
@@ -32,7 +33,7 @@ def test_normals_along_closing_equal_the_full_product(n, pairs, lines):
     normals = _unit(rng.normal(size=(n, 3)))
     got = contacts._normals_along_closing(normals, frames)
     assert got.dtype == np.float32 and got.flags["C_CONTIGUOUS"]
-    assert np.array_equal(got, (normals @ frames.c.T).astype(np.float32))
+    assert np.array_equal(got, thin_matmul(normals, np.ascontiguousarray(frames.c.T)).astype(np.float32))
 
 
 def test_normals_along_closing_with_a_pair_of_several_closing_axes():
@@ -43,11 +44,12 @@ def test_normals_along_closing_with_a_pair_of_several_closing_axes():
     frames = Frames(frames.a, c, np.cross(c, frames.a), frames.x0, frames.tilt_deg, frames.pair)
     normals = _unit(rng.normal(size=(50, 3)))
     assert np.array_equal(contacts._normals_along_closing(normals, frames),
-                          (normals @ frames.c.T).astype(np.float32))
+                          thin_matmul(normals, np.ascontiguousarray(frames.c.T)).astype(np.float32))
 
 
-def test_projection_equals_the_one_with_transposed_axes():
-    """The axes handed over in C order give the products of the transposed (F order) ones."""
+def test_projection_is_the_product_of_each_pairs_axes():
+    """The projection is the fixed-order product of the points and the pairs' axes, spread to
+    the frames of each pair."""
     rng = np.random.default_rng(6)
     for pairs, n in ((30, 300), (345, 536), (2, 1)):
         frames = _frames(rng, pairs, 4)
@@ -55,7 +57,7 @@ def test_projection_equals_the_one_with_transposed_axes():
         X, Y, Z = contacts._project(pts, frames)
         uniq, first = np.unique(frames.pair, return_index=True)
         axes = np.concatenate([frames.b[first], frames.c[first], frames.a[first]]).T.astype(np.float32)
-        proj = pts.astype(np.float32) @ axes
+        proj = thin_matmul(pts.astype(np.float32), np.ascontiguousarray(axes))
         col = np.searchsorted(uniq, frames.pair)
         for got, k in ((X, 0), (Y, 1), (Z, 2)):
             assert np.array_equal(got, proj[:, k * len(uniq) + col])
