@@ -1406,6 +1406,10 @@ def scan_angle_rad(t: int, n_theta: int) -> float:
     ...
 def slice_median_top(d: Sequence[float], sigma_m: float, slice_sigmas: float, iters: int) -> float:
     ...
+def squared_distance_transform(occupied: numpy.typing.NDArray[numpy.bool_]) -> numpy.typing.NDArray[numpy.int64]:
+    """
+    (nx, ny, nz) int64: for each voxel of a C-ordered bool grid, the exact squared Euclidean distance in voxels to the nearest True voxel (-1 everywhere when there is none).
+    """
 def thin_matmul(a: numpy.typing.NDArray[numpy.float32] | numpy.typing.NDArray[numpy.float64], b: numpy.typing.NDArray[numpy.float32] | numpy.typing.NDArray[numpy.float64]) -> numpy.typing.NDArray[numpy.float32] | numpy.typing.NDArray[numpy.float64]:
     """
     a (M, K) @ b (K, N), both C-ordered float32 or both float64, on the calling thread, each element summed in order k = 0, 1, ... without fused multiply-add: the same values on every machine and thread count.

@@ -5,8 +5,9 @@ This is the octomap equivalent of the original design. Points are binned into vo
 of ``voxel_size_m`` inside the configured workspace box (points outside are ignored:
 the robot cannot reach them); the grid spans the occupied voxels' bounding box padded
 by ``pad_m`` (the largest distance a query needs) so its size follows the scene, not
-the workspace. ``scipy.ndimage.distance_transform_edt`` then gives, for every voxel
-centre, the distance to the nearest occupied voxel centre, making a sphere query O(1).
+the workspace. An exact Euclidean distance transform (the C++ core's; the values of
+``scipy.ndimage.distance_transform_edt``) then gives, for every voxel centre, the distance to
+the nearest occupied voxel centre, making a sphere query O(1).
 
 Conservative semantics: an occupied voxel stands for a solid cube; a query point is
 rounded to its voxel centre. Both roundings are bounded by half a voxel diagonal, so
@@ -23,9 +24,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import ndimage
 from scipy.spatial import cKDTree
 
+from .. import _core
 from ..array_rows import rows_where
 from .exceptions import EnvironmentCloudError
 from .thin_matmul import thin_matmul
@@ -133,24 +134,13 @@ def _rows_where(points: np.ndarray, keep: np.ndarray) -> np.ndarray:
 
 def distance_field_m(occupied: np.ndarray, voxel_size_m: float) -> np.ndarray:
     """float32 field (the grid's shape): the distance [m] from each voxel centre to the nearest
-    occupied voxel centre (0 on an occupied voxel).
+    occupied voxel centre (0 on an occupied voxel); ``occupied`` holds one voxel at least.
 
     The same values as ``(ndimage.distance_transform_edt(~occupied) * voxel_size_m)
-    .astype(np.float32)``, computed for less: the exact nearest occupied voxel of each voxel
-    (the transform's feature indices), its integer squared distance in voxels, and a table of
-    ``sqrt(k) * voxel_size_m`` over those integers (the same float64 operations per value, so
-    the same float32 values, without the transform's float64 per-axis arrays)."""
-    ft = ndimage.distance_transform_edt(~occupied, return_distances=False, return_indices=True)
-    # squared voxel distances are below ndim * max(shape)^2: int32 where that fits
-    small = occupied.ndim * max(occupied.shape) ** 2 < np.iinfo(np.int32).max
-    kind = np.int32 if small else np.int64
-    sq = np.zeros(occupied.shape, dtype=kind)
-    for axis, n in enumerate(occupied.shape):
-        shape = [1] * occupied.ndim
-        shape[axis] = n
-        d = ft[axis].astype(kind, copy=False) - np.arange(n, dtype=kind).reshape(shape)
-        d *= d
-        sq += d
+    .astype(np.float32)``, computed for less: the exact integer squared distance in voxels of
+    every voxel (the C++ core's separable transform) and a table of ``sqrt(k) * voxel_size_m``
+    over those integers (the same float64 operations per value, so the same float32 values)."""
+    sq = _core.squared_distance_transform(np.ascontiguousarray(occupied, dtype=bool))
     table = (np.sqrt(np.arange(int(sq.max()) + 1, dtype=np.float64)) * float(voxel_size_m)).astype(np.float32)
     return table[sq]
 

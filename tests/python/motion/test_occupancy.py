@@ -81,3 +81,13 @@ def test_box_queries_equal_the_products_in_fixed_order():
     assert np.array_equal(box.distance_m(pts), np.linalg.norm(local - np.clip(local, -h, h), axis=-1))
     assert box.contains(box.center) and box.distance_m(box.center[None])[0] == 0.0
 
+
+
+def test_the_core_transform_refuses_what_is_not_a_3d_bool_grid():
+    from grasp_pipeline import _core
+
+    with pytest.raises(TypeError, match="occupied: expected dtype bool"):
+        _core.squared_distance_transform(np.zeros((3, 3, 3), dtype=np.uint8))
+    with pytest.raises(ValueError, match=r"occupied: expected shape \(n, n, n\)"):
+        _core.squared_distance_transform(np.zeros((3, 3), dtype=bool))
+    assert (_core.squared_distance_transform(np.zeros((2, 2, 2), dtype=bool)) == -1).all()
