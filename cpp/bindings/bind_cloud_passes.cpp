@@ -1,6 +1,7 @@
 // Bindings of the passes over whole clouds that the orchestration runs per frame: the voxel
-// thinning of the scene cloud (grasp_core/voxel_thin.hpp) and the tray grid's cells
-// (grasp_core/grid_cells.hpp) and thin products of points times axes (grasp_core/thin_matmul.hpp). The arrays are checked here (dtype, shape, C order, finite
+// thinning of the scene cloud (grasp_core/voxel_thin.hpp), the tray grid's cells
+// (grasp_core/grid_cells.hpp) and thin products of points times axes
+// (grasp_core/thin_matmul.hpp). The arrays are checked here (dtype, shape, C order, finite
 // where required) and rejected with a TypeError / ValueError naming the argument; the work
 // runs with the GIL released.
 #include <pybind11/numpy.h>
@@ -48,8 +49,10 @@ py::array_t<std::int64_t> first_per_voxel_py(const py::object& points, const py:
 }
 
 /// Two finite float64 values from a sequence / array (named in errors).
+using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
 void pair_of(const py::object& obj, const char* name, double out[2]) {
-  py::array a = checked<double>(py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj), name, {2}, false);
+  py::array a = checked<double>(DoubleArray::ensure(obj), name, {2}, false);
   const auto* p = static_cast<const double*>(a.data());
   if (!std::isfinite(p[0]) || !std::isfinite(p[1]))
     throw py::value_error(std::string(name) + ": expected two finite values");
@@ -57,8 +60,8 @@ void pair_of(const py::object& obj, const char* name, double out[2]) {
 }
 
 template <typename T>
-void grid_cells_of(const py::array& pts, const grasp_core::RotatedGrid& g, std::vector<std::int64_t>* rows,
-                   std::vector<std::int64_t>* cells) {
+void grid_cells_of(const py::array& pts, const grasp_core::RotatedGrid& g,
+                   std::vector<std::int64_t>* rows, std::vector<std::int64_t>* cells) {
   const auto* p = static_cast<const T*>(pts.data());
   const auto n = static_cast<std::size_t>(pts.shape(0));
   py::gil_scoped_release release;
@@ -74,7 +77,7 @@ py::tuple points_in_grid_cells_py(const py::object& points, const py::object& ce
   pair_of(half, "half", g.half);
   pair_of(lo, "lo", g.lo);
   pair_of(hi, "hi", g.hi);
-  py::array ax = checked<double>(py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(axes), "axes", {2, 2}, false);
+  py::array ax = checked<double>(DoubleArray::ensure(axes), "axes", {2, 2}, false);
   std::copy_n(static_cast<const double*>(ax.data()), 4, g.axes);
   if (!(cell_m > 0.0) || !std::isfinite(cell_m) || nu < 1 || nv < 1)
     throw py::value_error("cell_m must be a positive size in metres and the shape at least 1 x 1");
