@@ -48,15 +48,15 @@ def _check_outputs(out_dir: Path, json_path, rerun) -> None:
 
 
 def _recorders(system: System, out_dir: Path, video: bool, report: RunReport, settings: Settings,
-               rerun=None) -> Recorders:
-    """The snapshots, the video (or None), the Rerun recording (or None); subscribes them and
-    the pick evaluation. The video renders its own view at ``settings.video``'s rate and size
-    on the event stream's ticks — never through the eye-in-hand camera."""
-    snapshots = SnapshotRecorder(out_dir, SNAPSHOTS).attach(system.events)
+               rerun=None, snapshots: bool = True) -> Recorders:
+    """The snapshots (or None), the video (or None), the Rerun recording (or None); subscribes
+    them and the pick evaluation. The video renders its own view at ``settings.video``'s rate
+    and size on the event stream's ticks — never through the eye-in-hand camera."""
+    pictures = SnapshotRecorder(out_dir, SNAPSHOTS).attach(system.events) if snapshots else None
     system.attach_evaluation()
     recording = None if rerun is None else \
         RerunRecorder(rerun, system.world, settings.rerun).attach(system.events)
-    return Recorders(snapshots, _video(system, out_dir, video, report, settings), recording)
+    return Recorders(pictures, _video(system, out_dir, video, report, settings), recording)
 
 
 def _video(system: System, out_dir: Path, video: bool, report: RunReport, settings: Settings):
@@ -84,7 +84,7 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
                  prepare: Optional[Callable[[System], None]] = None,
                  objects: str = "builtin", declutter: bool = False,
                  pick: Sequence[str] = (), rerun: str | Path | None = None,
-                 mark_output: bool = True) -> RunReport:
+                 mark_output: bool = True, snapshots: bool = True) -> RunReport:
     """Run the whole pipeline headless; returns (and writes to ``json_path``) the report.
 
     ``scene``: ``"reference"``, ``"random"``/``"sparse"``, ``"packed"``, ``"pile"`` (with
@@ -102,7 +102,9 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
     ``rerun``: also record the run into this ``.rrd`` file (:mod:`~grasp_pipeline.report.rerun_recorder`;
     the Rerun SDK is an optional extra, checked before the simulation starts);
     ``mark_output``: mark ``out_dir`` while writing there, so that a second writer warns (the
-    benchmarks mark their --out and not their rounds' folders)."""
+    benchmarks mark their --out and not their rounds' folders);
+    ``snapshots``: draw the PNG snapshots of the rough view and the scan (the benchmarks'
+    rounds do not: they write pictures of their failures instead)."""
     wall0 = time.perf_counter()
     settings = settings or load_settings(SECTIONS)
     out_dir = Path(out_dir)
@@ -116,7 +118,7 @@ def run_pipeline(scene: str = "reference", seed: int = 0,
         options = RunOptions(select, scan, place, declutter, tuple(pick), grasp_source)
 
         def attach() -> Recorders:
-            recorders = _recorders(system, out_dir, video, report, settings, rerun)
+            recorders = _recorders(system, out_dir, video, report, settings, rerun, snapshots)
             if prepare is not None:  # after the built-in recorders: the pick evaluation comes first
                 prepare(system)
             return recorders

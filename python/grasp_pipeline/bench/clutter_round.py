@@ -104,14 +104,16 @@ class _Observers:
             None if render is None else ObjectView(system.world, self.view).render).attach(system.events)
 
     def _render(self):
-        from ..sim.exceptions import RenderUnavailable
-        from ..sim.scene_view import TABLE_VIEW, SceneView
+        """The failure pictures' scene view, made at the first failure (most rounds have
+        none); None where no GL context can exist."""
+        from ..sim.gl_backend import gl_unavailable_reason
+        from ..sim.scene_view import TABLE_VIEW, DeferredSceneView
 
-        try:
-            self.view = SceneView(self.system.world, **TABLE_VIEW)
-        except RenderUnavailable as exc:
-            log.warning("no failure scene PNGs: %s", exc)
+        reason = gl_unavailable_reason()
+        if reason is not None:
+            log.warning("no failure scene PNGs: no GL rendering: %s", reason)
             return None
+        self.view = DeferredSceneView(self.system.world, **TABLE_VIEW)
         return self.view.render
 
     def close(self) -> None:
@@ -193,7 +195,7 @@ def run_round(task: dict) -> RoundRecord:
         obs = _Observers(out, settings.scene_filter.band, bound_config)
         report = run_pipeline(scene=spec, seed=task["seed"], out_dir=out, json_path=out / "report.json",
                               settings=settings, video=False, declutter=True, prepare=obs,
-                              rerun=task.get("recording"), mark_output=False).to_dict()
+                              rerun=task.get("recording"), mark_output=False, snapshots=False).to_dict()
     except Exception as exc:  # any failure of the round is a result, not a crash
         error = f"{type(exc).__name__}: {exc}"
         log.error("round %d (seed %d) raised %s\n%s", task["index"], task["seed"], error,

@@ -211,7 +211,8 @@ def run_scene(index: int, seed: int, out_dir: str | Path, overrides: tuple = (No
 
         out = Path(out_dir)
         report = run_pipeline(scene="random", seed=seed, out_dir=out, json_path=out / "report.json",
-                              video=False, settings=scene_settings(overrides), mark_output=False)
+                              video=False, settings=scene_settings(overrides), mark_output=False,
+                              snapshots=False)
         return scene_record(index, seed, objects, report.to_dict())
     except Exception as exc:  # any failure of the scene is a result, not a crash
         text = f"{type(exc).__name__}: {exc}"

@@ -89,3 +89,37 @@ class SceneView:
         if self.renderer is not None:
             self.renderer.close()
             self.renderer = None
+
+
+class DeferredSceneView:
+    """A :class:`SceneView` made at its first picture, for views that are rarely used (the
+    pictures of a failed pick): creating one costs a GL context and a renderer (about 0.1 s
+    in software GL), most runs never need it. Takes :class:`SceneView`'s arguments; a missing
+    GL raises :class:`~.exceptions.RenderUnavailable` at the first picture instead of here
+    (check :func:`~.gl_backend.gl_unavailable_reason` first to know sooner)."""
+
+    def __init__(self, world, **view_args) -> None:
+        self.world, self.view_args = world, dict(view_args)
+        self._view: SceneView | None = None
+
+    @property
+    def made(self) -> bool:
+        """Whether the view exists yet (a picture was asked for)."""
+        return self._view is not None
+
+    def _made(self) -> SceneView:
+        if self._view is None:
+            self._view = SceneView(self.world, **self.view_args)
+        return self._view
+
+    def render(self) -> np.ndarray:
+        return self._made().render()
+
+    def render_from(self, lookat_m, distance_m: float, azimuth_deg: float,
+                    elevation_deg: float) -> np.ndarray:
+        return self._made().render_from(lookat_m, distance_m, azimuth_deg, elevation_deg)
+
+    def close(self) -> None:
+        if self._view is not None:
+            self._view.close()
+            self._view = None

@@ -77,6 +77,7 @@ def test_one_round_gives_the_vgn_metrics(runs, protocol):
     assert (d / "out" / "summary.md").read_text().count("GIGA") >= (1 if protocol != "sparse" else 0)
     for png in ("rates.png", "objects.png", "failures.png"):
         assert (d / "out" / png).stat().st_size > 5_000
+    assert not [p for p in (d / "out").rglob("*.png") if p.name in ("rough.png", "scan.png")]  # (no stage pictures)
     for a in row["attempts"]:  # every failed attempt has its PNGs (paths as the run was given them)
         assert a["success"] or (a["snapshots"] and all((d / p).exists() for p in a["snapshots"]))
     assert f"GSR" in stdout

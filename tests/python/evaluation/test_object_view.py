@@ -59,3 +59,23 @@ def test_a_place_failure_gets_the_object_picture_a_close_failure_does_not(world,
     assert str(tmp_path / "attempt_01_verify_object.png") in verify.snapshots
     assert (tmp_path / "attempt_02_close_scene.png").exists()
     assert not (tmp_path / "attempt_02_close_object.png").exists()
+
+
+def test_a_deferred_view_is_made_at_its_first_picture_and_draws_the_same(world, tmp_path):
+    from grasp_pipeline.sim.scene_view import DeferredSceneView, SceneView
+
+    args = {"width_px": 96, "height_px": 72}
+    deferred, plain = DeferredSceneView(world, **args), SceneView(world, **args)
+    try:
+        rec = FailureSnapshotRecorder(tmp_path, deferred.render, ObjectView(world, deferred).render)
+        assert not deferred.made  # nothing rendered, nothing made
+        rec.on_pick(PickEvent(0.0, PickResult(anchor=[0.5, 0.0], failed_stage="CLOSE", object="blue_cube")))
+        assert deferred.made and (tmp_path / "attempt_01_close_scene.png").exists()
+        assert np.array_equal(deferred.render(), plain.render())
+        view = view_of(world, "red_cube")
+        assert np.array_equal(deferred.render_from(**view), plain.render_from(**view))
+    finally:
+        deferred.close()
+        plain.close()
+    assert not deferred.made
+    deferred.close()  # (idempotent)
