@@ -17,6 +17,7 @@ Usage::
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import difflib
 import math
@@ -139,16 +140,29 @@ def _read_text(path: Path) -> str:
         raise ConfigError(f"config file {path} is not UTF-8 text (is it a YAML file?)") from None
 
 
+#: The mappings of the file texts parsed in this process (text -> mapping): a benchmark worker
+#: loads the same default files for every round it runs, and PyYAML's pure-Python loader takes
+#: about 10 ms a file. Keyed by the text, so an edited file is parsed anew.
+_PARSED: dict[str, dict[str, Any]] = {}
+_MAX_PARSED = 64
+
+
 def read_yaml(path: str | Path) -> dict[str, Any]:
     """Read a YAML mapping (size, aliases and expanded size limited, see :func:`parse_yaml`);
-    an empty file is an empty mapping."""
+    an empty file is an empty mapping. Each call returns a mapping of its own."""
     path = Path(path)
-    data = parse_yaml(_read_text(path), f"config file {path}")
+    text = _read_text(path)
+    data = _PARSED.get(text)
     if data is None:
-        return {}
-    if not isinstance(data, dict):
-        raise ConfigError(f"config file {path} must hold a mapping of name: value")
-    return data
+        data = parse_yaml(text, f"config file {path}")
+        if data is None:
+            data = {}
+        if not isinstance(data, dict):
+            raise ConfigError(f"config file {path} must hold a mapping of name: value")
+        if len(_PARSED) >= _MAX_PARSED:
+            _PARSED.clear()
+        _PARSED[text] = data
+    return copy.deepcopy(data)
 
 
 _KINDS = {bool: "true or false", int: "an integer", float: "a number", str: "a text"}

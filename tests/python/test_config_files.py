@@ -83,3 +83,18 @@ def test_odd_keys_and_values_are_errors_not_tracebacks(tmp_path, text, words):
     f = tmp_path / "odd.yaml"
     f.write_text(text)
     assert words in _refused(load_settings, ("grasp", "scan"), str(f))
+
+
+def test_a_file_read_again_gives_its_own_mapping_and_an_edited_file_its_new_values(tmp_path):
+    f = tmp_path / "p.yaml"
+    f.write_text("a: 1\nb: [1, 2]\n")
+    first = read_yaml(f)
+    first["b"].append(3)  # the caller's copy: the next read does not see it
+    assert read_yaml(f) == {"a": 1, "b": [1, 2]}
+    f.write_text("a: 2\nb: [1, 2]\n")
+    assert read_yaml(f) == {"a": 2, "b": [1, 2]}
+    f.write_text("- 1\n")
+    with pytest.raises(ConfigError, match="must hold a mapping"):
+        read_yaml(f)
+    with pytest.raises(ConfigError, match="must hold a mapping"):  # (not remembered as good)
+        read_yaml(f)
