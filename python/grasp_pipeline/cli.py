@@ -24,6 +24,7 @@ import sys
 from pathlib import Path
 from typing import Optional
 
+from . import signals
 from .cli_options import (add_backend_options, add_config_options, finite_float, non_negative_int,
                           positive_float, positive_int)
 from .exceptions import GraspPipelineError
@@ -298,20 +299,31 @@ def main(argv: list[str] | None = None) -> int:
     from .logs import setup_logging
 
     setup_logging(getattr(logging, args.log_level))
-    if _uses_mujoco(args):  # before anything imports mujoco: the GL backend is chosen then
-        from .process_memory import keep_large_allocations
-        from .sim.gl_backend import configure_gl
-
-        configure_gl()
-        keep_large_allocations()
+    mark = signals.received()
     try:
-        return _run(args)
+        with signals.interrupts_raise():
+            _prepare_process(args)
+            return _run(args)
     except GraspPipelineError as exc:
         log.error("%s", shorten(str(exc)))
         return 2
     except KeyboardInterrupt:
         log.error("interrupted")
         return 130
+    except Exception:
+        if signals.received() == mark:  # not an import a Ctrl-C cut short: a real error
+            raise
+        log.error("interrupted")
+        return 130
+
+
+def _prepare_process(args: argparse.Namespace) -> None:
+    if _uses_mujoco(args):  # before anything imports mujoco: the GL backend is chosen then
+        from .process_memory import keep_large_allocations
+        from .sim.gl_backend import configure_gl
+
+        configure_gl()
+        keep_large_allocations()
 
 
 if __name__ == "__main__":

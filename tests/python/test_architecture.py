@@ -246,6 +246,22 @@ def test_no_python_function_is_longer_than_60_lines():
     assert long == []
 
 
+def test_no_task_waits_while_it_is_being_closed():
+    """A generator that yields in a ``finally`` (or in ``except BaseException``) yields while it is
+    closed ("generator ignored GeneratorExit") and swallows an interrupt until it is stepped
+    again: cleanup motions go through ``runtime.then_cleanup``."""
+    found = []
+    for name, path in _modules().items():
+        for node in ast.walk(ast.parse(path.read_text())):
+            if not isinstance(node, ast.Try):
+                continue
+            blocks = [node.finalbody] + [h.body for h in node.handlers if h.type is None or
+                                         ast.unparse(h.type) in ("BaseException", "GeneratorExit")]
+            if any(isinstance(m, (ast.Yield, ast.YieldFrom)) for b in blocks for s in b for m in ast.walk(s)):
+                found.append(f"{name}: line {node.lineno}")
+    assert found == []
+
+
 def test_orchestration_has_an_explicit_public_api():
     import grasp_pipeline.orchestration as orch
 

@@ -21,7 +21,10 @@ business (it should return a failed record); a child that dies (signal, segfault
 ``timeout_s`` is recorded through ``failed_fn`` and the benchmark goes on. Ctrl-C / SIGTERM
 stops the running jobs — SIGINT first (unless Ctrl-C reached them already), so each run holds
 its arm and writes its report saying interrupted, then SIGKILL for what still runs after
-:data:`STOP_GRACE_S` — and returns the records finished so far. What a job is
+:data:`STOP_GRACE_S` — and returns the records finished so far. A worker is started with both
+signals held (:func:`grasp_pipeline.signals.held`): the command's own interrupt waits until the new
+process has its instructions and is known, and the worker's (Ctrl-C in a terminal reaches every
+process of the command) until it is ready to stop quietly. What a job is
 (:class:`~.jobs.JobSpec`) and the workers' environment: :mod:`.jobs`.
 """
 from __future__ import annotations
@@ -35,7 +38,8 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Optional
 
-from ..signals import interrupts_raise
+from .. import signals
+from ..signals import held, interrupts_raise, release_held
 from .jobs import JobSpec, add_process_cpu, begin_job, worker_env
 
 log = logging.getLogger(__name__)
@@ -64,29 +68,42 @@ def child_environment(extra: dict):
 
 def _worker_main(conn, run_fn, log_level: int, tag: str) -> None:
     """Entry point of a spawned worker: run the jobs it is sent, one at a time, until it is sent
-    ``None``; each job's record goes back with the CPU time the job cost this process."""
-    from ..logs import retag_logging, setup_logging
+    ``None``; each job's record goes back with the CPU time the job cost this process. A Ctrl-C
+    or SIGTERM outside a job (during the start-up, between jobs) ends it quietly."""
+    from ..logs import setup_logging
     from ..process_memory import keep_large_allocations
 
     setup_logging(log_level, tag=f"[{tag}] ")
     keep_large_allocations()
-    cpu_before = 0.0  # the first job carries the start-up (interpreter, imports)
+    mark = signals.received()
     try:
-        while (task := conn.recv()) is not None:
-            retag_logging(f"[{tag} {task[0]}] ")
-            begin_job()
-            try:
-                with interrupts_raise():  # counted: an interrupt a library turns into an error stays one
-                    rec = run_fn(task)
-            except BaseException as exc:  # (run_fn should catch Exception; this is e.g. SystemExit)
-                rec = {"index": task[0], "error": f"{type(exc).__name__}: {exc}", "crashed": True}
-            add_process_cpu(rec, since_s=cpu_before)
-            cpu_before = time.process_time()
-            conn.send(rec)
+        with interrupts_raise():  # counted: an interrupt a library turns into an error stays one
+            release_held()  # the start-up's Ctrl-C (held by the parent's mask) arrives here
+            _serve(conn, run_fn, tag)
     except (EOFError, OSError, KeyboardInterrupt):  # the parent is gone, or Ctrl-C between jobs
         pass
+    except Exception:
+        if signals.received() == mark:  # not an import a Ctrl-C cut short: a real error
+            raise
     finally:
         conn.close()
+
+
+def _serve(conn, run_fn, tag: str) -> None:
+    """The worker's job loop (see :func:`_worker_main`)."""
+    from ..logs import retag_logging
+
+    cpu_before = 0.0  # the first job carries the start-up (interpreter, imports)
+    while (task := conn.recv()) is not None:
+        retag_logging(f"[{tag} {task[0]}] ")
+        begin_job()
+        try:
+            rec = run_fn(task)
+        except BaseException as exc:  # (run_fn should catch Exception; this is e.g. SystemExit)
+            rec = {"index": task[0], "error": f"{type(exc).__name__}: {exc}", "crashed": True}
+        add_process_cpu(rec, since_s=cpu_before)
+        cpu_before = time.process_time()
+        conn.send(rec)
 
 
 @dataclass
@@ -141,9 +158,14 @@ class _Scheduler:
         return _Worker(proc, here)
 
     def start(self, task: tuple) -> None:
-        worker = self.idle.pop() if self.idle else self._spawn()
-        worker.give(task)
-        self.running[worker.proc.sentinel] = worker
+        """Give ``task`` to an idle worker or a new one. Ctrl-C / SIGTERM are held meanwhile: a
+        new process gets its instructions whole and is known to :meth:`stop_all` before the
+        interrupt is raised (it also starts with them blocked, so a Ctrl-C of the whole group
+        during its start-up is seen once it can stop quietly, not as a traceback mid-import)."""
+        with held():
+            worker = self.idle.pop() if self.idle else self._spawn()
+            worker.give(task)
+            self.running[worker.proc.sentinel] = worker
 
     def finish(self, sentinel, rec: dict, reusable: bool = False) -> None:
         """Record ``rec``; the worker waits for another job when ``reusable`` and it has jobs
@@ -266,6 +288,10 @@ def run_jobs(tasks: list[tuple], spec: JobSpec, workers: int, timeout_s: float,
 
     from tqdm import tqdm
 
+    from multiprocessing import resource_tracker
+
+    # Started now, not by the first worker's start: it unblocks the signals that start holds.
+    resource_tracker.ensure_running()
     pending = list(tasks)
     bar = tqdm(total=len(tasks), unit="job", desc=spec.desc, disable=not progress,
                file=sys.stderr, dynamic_ncols=True)

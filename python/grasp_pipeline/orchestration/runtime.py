@@ -62,6 +62,8 @@ class Runtime:
             mark = signals.received()
             try:
                 next(task.gen)
+                # an interrupt the task swallowed (a library's ``except BaseException``) is raised
+                signals.raise_if_received_since(mark, f"task {task.name} ran")
             except StopIteration as stop:
                 task.done, task.result = True, stop.value
             except Exception as exc:  # a task failure must not kill the runtime
@@ -119,6 +121,20 @@ def wait_s(world, duration_s: float) -> TaskGen:
     t_end = world.time_s + duration_s
     while world.time_s < t_end - 0.5 * world.timestep_s:
         yield
+
+
+def then_cleanup(body: TaskGen, cleanup: Callable[[], Optional[TaskGen]]) -> TaskGen:
+    """Task helper: run ``body``, then the task ``cleanup()`` returns (None: nothing), also when
+    ``body`` failed with an error (which is raised again after the cleanup). Not when the task
+    is closed or interrupted (``GeneratorExit``, ``KeyboardInterrupt``): a task that is ending
+    must not wait for simulated time any more, and the arm holds where it is."""
+    try:
+        result = yield from body
+    except Exception:
+        yield from cleanup() or ()
+        raise
+    yield from cleanup() or ()
+    return result
 
 
 def _frame_request(world) -> ContextManager[None]:

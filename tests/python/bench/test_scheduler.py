@@ -1,18 +1,25 @@
 """The job scheduler of the benchmarks, local and on Ray: results in index order, a fresh
 process per job (or up to ``jobs_per_worker`` jobs per process, each planned from a fresh
 process's random state; never after a failed job), and a worker that dies costs its own job
-only (reported with the reason)."""
+only (reported with the reason). Ctrl-C while a worker starts stops it quietly: the command's
+own Ctrl-C waits until the new process has its instructions, and the worker's (a terminal's
+Ctrl-C reaches every process of the command) until it can stop without a traceback."""
 
 from __future__ import annotations
 
+import multiprocessing.util as mp_util
+import os
+import signal
 from pathlib import Path
 
 import pytest
 
+from grasp_pipeline import signals
 from grasp_pipeline.bench.jobs import JobSpec
 from grasp_pipeline.bench.scheduler import run_jobs
 
 import jobs_for_tests as jobs  # (this folder is on sys.path: no package)
+import jobs_interrupted_start
 
 JOB = JobSpec(run_fn=jobs.echo_or_die, failed_fn=jobs.failed, desc="test")
 TASKS = [(0, "a"), (1, "die"), (2, "b"), (3, "c")]
@@ -62,3 +69,53 @@ def test_a_reused_worker_plans_each_job_from_a_fresh_processs_random_state():
                         workers=1, timeout_s=120, progress=False)
     assert len({r["pid"] for r in reused}) == 1
     assert all(r["draws"] == fresh[0]["draws"] for r in reused)
+
+
+@pytest.fixture
+def ctrl_c_interrupts():
+    """SIGINT as a terminal's foreground command has it, here and in the workers (a test runner
+    started in the background passes it on ignored)."""
+    before = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, before)
+
+
+def _wait_for_exit(pid: int) -> None:
+    try:
+        os.waitpid(pid, 0)
+    except ChildProcessError:  # already reaped by the scheduler
+        pass
+
+
+def test_ctrl_c_right_after_a_worker_was_forked_reaches_the_command_once_it_started(
+        monkeypatch, capfd, ctrl_c_interrupts):
+    """The signal lands between the fork and the hand-over of the worker's instructions."""
+    forked = []
+    original = mp_util.spawnv_passfds
+
+    def spawn_then_ctrl_c(path, args, passfds):
+        pid = original(path, args, passfds)
+        if any("spawn_main" in str(a) for a in args):  # a worker, not multiprocessing's tracker
+            forked.append(pid)
+            os.kill(os.getpid(), signal.SIGINT)
+        return pid
+
+    monkeypatch.setattr(mp_util, "spawnv_passfds", spawn_then_ctrl_c)
+    with signals.interrupts_raise():
+        records, interrupted = run_jobs([(0, "a"), (1, "b")], JOB, workers=1, timeout_s=60,
+                                        progress=False)
+    assert interrupted and records == [] and len(forked) == 1
+    _wait_for_exit(forked[0])  # (a worker left behind would write its traceback later)
+    err = capfd.readouterr().err
+    assert "Traceback" not in err and "Error" not in err, err
+
+
+def test_ctrl_c_while_a_worker_imports_stops_it_without_a_traceback(monkeypatch, capfd,
+                                                                   ctrl_c_interrupts):
+    monkeypatch.setenv("INTERRUPT_START_FROM", str(os.getpid()))
+    spec = JobSpec(run_fn=jobs_interrupted_start.echo, failed_fn=jobs.failed, desc="test")
+    with signals.interrupts_raise():
+        records, interrupted = run_jobs([(0,), (1,)], spec, workers=1, timeout_s=60, progress=False)
+    assert interrupted and records == []
+    err = capfd.readouterr().err
+    assert "Traceback" not in err and "KeyboardInterrupt" not in err, err

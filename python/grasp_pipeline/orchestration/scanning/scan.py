@@ -34,7 +34,7 @@ from ...motion.work_cell import footprint_distance_m
 from ...results import ProbeResult, ScanOutcome
 from ..config import ScanConfig
 from ..events import StageEvent
-from ..runtime import Runtime, Task
+from ..runtime import Runtime, Task, then_cleanup
 from ..scene.scene_model import snapshot
 from ..scene.tracks import track_box
 from .ambiguity import ambiguity
@@ -141,30 +141,31 @@ class ActiveScan:
             out.failure = "perception stale before the first motion: no motion made"
             return
         self.motion.set_scene(snapshot(self.loop))
+        probed: list[int] = []  # the probes that began to move (then the scan returns)
+        yield from then_cleanup(self._probe_all(rough, out, probed),
+                                lambda: self._return(start_q, out) if probed else None)
+
+    def _probe_all(self, rough: list, out: ScanOutcome, probed: list):
+        """Task: move above each rough centre in turn and look (``probed`` gets each probe's
+        number as it begins to move); the first probe that cannot move ends the scan."""
         plane = self.loop.plane
         ready = _core.Pose.from_matrix(self.loop.ready_camera_pose)
         cam_in_flange = _core.Pose.from_matrix(self.camera_in_flange)
-        moved = False
-        try:
-            for i, (centre, probe) in enumerate(zip(rough, out.probes), start=1):
-                self.stage, self.index = ScanStage.PROBING, i
-                target = _core.camera_above_flange_target(centre, plane, ready, cam_in_flange)
-                try:
-                    moved = True
-                    yield from self.motion.to_pose(target.matrix(), frame="flange", kind="scan_probe")
-                except GraspPipelineError as exc:
-                    probe.message = f"probe {i}/{len(rough)} failed to move: {exc}"
-                    out.failure = probe.message
-                    log.error("%s; remaining objects skipped", probe.message)
-                    self.motion.sync()
-                    break
-                yield from self._dwell(i, centre, probe)
-                yield from self._closer_look(i, probe)
-            else:
-                out.completed = True
-        finally:
-            if moved:
-                yield from self._return(start_q, out)
+        for i, (centre, probe) in enumerate(zip(rough, out.probes), start=1):
+            self.stage, self.index = ScanStage.PROBING, i
+            target = _core.camera_above_flange_target(centre, plane, ready, cam_in_flange)
+            try:
+                probed.append(i)
+                yield from self.motion.to_pose(target.matrix(), frame="flange", kind="scan_probe")
+            except GraspPipelineError as exc:
+                probe.message = f"probe {i}/{len(rough)} failed to move: {exc}"
+                out.failure = probe.message
+                log.error("%s; remaining objects skipped", probe.message)
+                self.motion.sync()
+                return
+            yield from self._dwell(i, centre, probe)
+            yield from self._closer_look(i, probe)
+        out.completed = True
 
     def _dwell(self, i: int, centre: np.ndarray, probe: ProbeResult):
         """Task: look from above object ``i`` (frames requested from arrival to the end)."""

@@ -37,7 +37,7 @@ from ...perception.volume_config import VolumeConfig
 from ...results import SideViewResult
 from ..config import ScanConfig
 from ..events import StageEvent
-from ..runtime import Runtime
+from ..runtime import Runtime, then_cleanup
 from ..scene.scene_model import snapshot
 
 log = logging.getLogger("grasp_pipeline.side_view")
@@ -148,6 +148,10 @@ class SideView:
     def task(self, T_flange: np.ndarray, tid: int, out: SideViewResult):
         """Task: move the camera to the view, look, come back (module doc)."""
         start_q = np.asarray(self.motion.q_cmd, float).copy()
+        yield from then_cleanup(self._look(T_flange, tid, out),
+                                lambda: self._return(start_q, out) if self.config.side_view_return else None)
+
+    def _look(self, T_flange: np.ndarray, tid: int, out: SideViewResult):
         try:
             yield from self.motion.to_pose(T_flange, frame="flange", kind="side_view")
             out.moved = True
@@ -156,9 +160,6 @@ class SideView:
             out.message = f"side view failed to move: {exc}"
             log.warning("%s", out.message)
             self.motion.sync()
-        finally:
-            if self.config.side_view_return:
-                yield from self._return(start_q, out)
 
     def _dwell(self, tid: int):
         loop, world = self.loop, self.rt.world
