@@ -78,7 +78,8 @@ def drive(system: RobotSystem, settings: Settings, report: RunReport, options: R
           attach: Callable[[], Recorders], wall0: float, json_path) -> None:
     """``attach()`` the recorders, run the stages, set the report's status; on Ctrl-C / SIGTERM
     or an error the arm holds. The recorders and the system are closed and the report written
-    (to ``json_path`` unless None) in every case; a bug's traceback is raised after that."""
+    (to ``json_path`` unless None) in every case, a further Ctrl-C / SIGTERM meanwhile raised only
+    after that (as ``KeyboardInterrupt``); a bug's traceback is raised after that too."""
     recorders, mark = None, signals.received()
     try:
         recorders = attach()
@@ -93,7 +94,8 @@ def drive(system: RobotSystem, settings: Settings, report: RunReport, options: R
         elif _failed(system, report, exc):
             raise
     finally:
-        _finish(system, report, recorders, wall0, json_path)
+        with signals.held():  # a second Ctrl-C waits until the report is written
+            _finish(system, report, recorders, wall0, json_path)
 
 
 def _interrupted(system: RobotSystem, report: RunReport) -> None:

@@ -69,7 +69,8 @@ def child_environment(extra: dict):
 def _worker_main(conn, run_fn, log_level: int, tag: str) -> None:
     """Entry point of a spawned worker: run the jobs it is sent, one at a time, until it is sent
     ``None``; each job's record goes back with the CPU time the job cost this process. A Ctrl-C
-    or SIGTERM outside a job (during the start-up, between jobs) ends it quietly."""
+    or SIGTERM outside a job (during the start-up, between jobs) ends it quietly; once it ends,
+    Ctrl-C is ignored."""
     from ..logs import setup_logging
     from ..process_memory import keep_large_allocations
 
@@ -86,6 +87,9 @@ def _worker_main(conn, run_fn, log_level: int, tag: str) -> None:
         if signals.received() == mark:  # not an import a Ctrl-C cut short: a real error
             raise
     finally:
+        # Exiting: nothing is left to stop. A late Ctrl-C (the parent's, a second one) must not
+        # break into the exit handlers (MuJoCo's EGL display is closed there).
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
         conn.close()
 
 

@@ -31,3 +31,19 @@ def ompl_draws(task: tuple) -> dict:
     JointPlanner(validator=None, config=MotionConfig())
     rng = ou.RNG()
     return {"index": task[0], "draws": [rng.uniform01() for _ in range(3)], "pid": os.getpid()}
+
+
+def slow_exit(task: tuple) -> dict:
+    """``(index, seconds)``: sleeps, after registering an exit handler that takes a while (as
+    closing MuJoCo's EGL display can) and says when it is done."""
+    import atexit
+    import sys
+    import time
+
+    def close_display() -> None:
+        time.sleep(2.0)
+        print("exit handlers done", file=sys.stderr, flush=True)
+
+    atexit.register(close_display)
+    time.sleep(task[1])
+    return {"index": task[0]}

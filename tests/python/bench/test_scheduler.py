@@ -10,6 +10,7 @@ from __future__ import annotations
 import multiprocessing.util as mp_util
 import os
 import signal
+import threading
 from pathlib import Path
 
 import pytest
@@ -119,3 +120,16 @@ def test_ctrl_c_while_a_worker_imports_stops_it_without_a_traceback(monkeypatch,
     assert interrupted and records == []
     err = capfd.readouterr().err
     assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
+
+
+def test_a_late_ctrl_c_does_not_break_into_a_finished_workers_exit(capfd, ctrl_c_interrupts):
+    """The command is stopped while a job runs; the job ends, and the worker is still in its exit
+    handlers when the scheduler sends it SIGINT (it cannot tell whether Ctrl-C reached it)."""
+    spec = JobSpec(run_fn=jobs.slow_exit, failed_fn=jobs.failed, desc="test")
+    stop = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGTERM))
+    with signals.interrupts_raise():
+        stop.start()
+        records, interrupted = run_jobs([(0, 1.0)], spec, workers=1, timeout_s=60, progress=False)
+    assert interrupted
+    err = capfd.readouterr().err
+    assert "Traceback" not in err and "exit handlers done" in err, err
