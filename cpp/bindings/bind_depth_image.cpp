@@ -12,6 +12,7 @@
 
 #include "array_input.hpp"
 #include "grasp_core/depth_image.hpp"
+#include "grasp_core/normal_draws.hpp"
 
 namespace py = pybind11;
 using namespace grasp_core;
@@ -101,6 +102,14 @@ void add_quadratic_depth_noise_py(const py::object& z, const py::object& noise, 
   add_quadratic_depth_noise(n, zp, ref_range, sigma_at_ref, np_);
 }
 
+void fill_standard_normal_py(const py::object& out, std::uint64_t seed) {
+  py::array o = checked<float>(out, "out", {-1, -1}, true);
+  float* op = static_cast<float*>(o.mutable_data());
+  const auto n = static_cast<std::size_t>(o.shape(0) * o.shape(1));
+  py::gil_scoped_release release;
+  fill_standard_normal(seed, n, op);
+}
+
 }  // namespace
 
 void bind_depth_image(py::module_& m) {
@@ -112,6 +121,10 @@ void bind_depth_image(py::module_& m) {
         py::arg("ref_range"), py::arg("sigma_at_ref"),
         "In place on noise (H, W) float32, holding standard normal draws: noise = noise * "
         "(((z / ref_range) ** 2) * sigma_at_ref) + z, float32 operations in this order.");
+  m.def("fill_standard_normal", &fill_standard_normal_py, py::arg("out"), py::arg("seed"),
+        "In place on out (H, W) float32: standard normal draws of the stream of seed (an unsigned "
+        "64-bit integer), row by row; the same seed gives the same draws (the depth camera's "
+        "noise, one seed per frame).");
   m.def("mask_invalid_and_grazing", &mask_invalid_and_grazing_py, py::arg("depth"), py::arg("invalid"),
         py::arg("x"), py::arg("y"), py::arg("ray_norm2"), py::arg("fx"), py::arg("fy"),
         py::arg("cos2_max"),

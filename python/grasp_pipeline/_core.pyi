@@ -1358,6 +1358,10 @@ def extract_planes(points: Points, params: SceneFilterParams, seed: int = 0) -> 
     """
     method.md §1.2: sequential plane extraction on the rows that are finite and within params.max_abs_coordinate_m; counts are on the whole cloud.
     """
+def fill_standard_normal(out: numpy.typing.NDArray[numpy.float32], seed: typing.SupportsInt) -> None:
+    """
+    In place on out (H, W) float32: standard normal draws of the stream of seed (an unsigned 64-bit integer), row by row; the same seed gives the same draws (the depth camera's noise, one seed per frame).
+    """
 def first_per_voxel(points: numpy.typing.NDArray[numpy.float64], owner: numpy.typing.NDArray[numpy.int64], voxel_m: float) -> numpy.typing.NDArray[numpy.int64]:
     """
     Positions (int64) of the first point of each distinct (voxel, owner) pair of an (N, 3) float64 cloud of finite points with (N,) int64 owners, in increasing order of the pair's key ((ix * dy + iy) * dz + iz) * n_owner + owner - min(owner), voxel indices counted from the cloud's minimum per axis: np.unique(key, return_index=True)[1].

@@ -18,7 +18,7 @@ SINGLE_THREAD_ENV = {
     "NUMEXPR_NUM_THREADS": "1",
     "VECLIB_MAXIMUM_THREADS": "1",
     "BLIS_NUM_THREADS": "1",
-    "LP_NUM_THREADS": "1",  # Mesa llvmpipe (software EGL/OSMesa rendering) render threads
+    "LP_NUM_THREADS": "0",  # Mesa llvmpipe (software EGL/OSMesa): rasterize on the calling thread
 }
 
 

@@ -98,3 +98,32 @@ def test_noise_and_depth_passes_refuse_bad_arrays():
         _core.add_quadratic_depth_noise(z, np.ones((H, W)), 0.4, 0.002)
     with pytest.raises(TypeError, match="raw: expected dtype float32"):
         _core.metric_depth(np.ones((H, W)), -0.5, 0.01)
+
+
+def test_normal_draws_are_a_seeded_standard_normal_stream():
+    a = np.empty((480, 640), dtype=np.float32)
+    b = np.empty_like(a)
+    _core.fill_standard_normal(a, 17)
+    _core.fill_standard_normal(b, 17)
+    assert np.array_equal(a, b)  # the same seed, the same draws
+    _core.fill_standard_normal(b, 18)
+    assert np.mean(a == b) < 1e-3
+    x = np.concatenate([a.ravel(), b.ravel()]).astype(np.float64)
+    n = len(x)
+    assert abs(x.mean()) < 5 / np.sqrt(n) and abs(x.std() - 1.0) < 5 * np.sqrt(0.5 / n)
+    # tail shares (the ziggurat's tail beyond 3.44 and its wedges included), within 5 sigma
+    for t, p in ((1.0, 0.3173105), (2.0, 0.0455003), (3.0, 0.0026998), (3.5, 0.000465)):
+        share = np.mean(np.abs(x) > t)
+        assert abs(share - p) < 5 * np.sqrt(p * (1 - p) / n), (t, share, p)
+    assert np.all(np.isfinite(x)) and abs(np.mean(x > 0) - 0.5) < 5 * 0.5 / np.sqrt(n)
+
+
+def test_normal_draws_refuse_bad_arrays_and_seeds():
+    with pytest.raises(TypeError, match="out: expected dtype float32"):
+        _core.fill_standard_normal(np.empty((H, W)), 1)
+    with pytest.raises(ValueError, match="read-only"):
+        frozen = np.empty((H, W), dtype=np.float32)
+        frozen.flags.writeable = False
+        _core.fill_standard_normal(frozen, 1)
+    with pytest.raises(TypeError):
+        _core.fill_standard_normal(np.empty((H, W), dtype=np.float32), -1)

@@ -59,3 +59,37 @@ c = subprocess.run([sys.executable, "-c", "import os; print(os.environ['MUJOCO_G
                    capture_output=True, text=True).stdout.strip()
 print(v, c)
 """
+
+
+@pytest.mark.parametrize("user_value", [None, "3"])
+def test_software_gl_rasterizes_on_the_calling_thread_unless_the_user_says_otherwise(user_value):
+    code = ("import os; from grasp_pipeline.sim.gl_backend import configure_gl; configure_gl(); "
+            "print(os.environ['LP_NUM_THREADS'])")
+    env = {k: v for k, v in _env(MUJOCO_GL="egl").items() if k != "LP_NUM_THREADS"}
+    if user_value is not None:
+        env["LP_NUM_THREADS"] = user_value
+    res = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=120)
+    assert res.stdout.strip() == (user_value or "0"), res.stderr[-2000:]
+
+
+def test_frames_are_the_same_whatever_the_software_rasterizer_threads():
+    """llvmpipe's render threads change what a frame costs, not what it shows."""
+    code = """
+import hashlib
+from grasp_pipeline.sim.gl_backend import configure_gl
+configure_gl()
+from grasp_pipeline.sim.scenes import random_scene
+from grasp_pipeline.sim.world import SimWorld
+w = SimWorld(random_scene(3))
+f = w.camera.capture()
+print(w.camera.backend, hashlib.sha1(f.depth.tobytes() + f.rgb.tobytes()).hexdigest())
+w.close()
+"""
+    out = set()
+    for threads in ("0", "2"):
+        res = subprocess.run([sys.executable, "-c", code], env=_env(LP_NUM_THREADS=threads),
+                             capture_output=True, text=True, timeout=300)
+        assert res.returncode == 0, res.stderr[-3000:]
+        out.add(res.stdout.split()[-1])
+        backend = res.stdout.split()[0]
+    assert len(out) == 1, f"{backend} frames differ with the rasterizer's threads"

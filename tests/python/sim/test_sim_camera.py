@@ -8,6 +8,7 @@ import logging
 import numpy as np
 import pytest
 
+from grasp_pipeline import _core
 from grasp_pipeline.exceptions import ConfigError
 from grasp_pipeline.robot import description as rm
 from grasp_pipeline.sim.camera import DepthCamera
@@ -197,7 +198,9 @@ def _reference_frame(cam, z, T):
         invalid |= z * z < (cam._cos_grazing**2) * (gu * gu + gv * gv + nz * nz) * cam._ray_norm2
         sigma = np.float32(noise.depth_noise_sigma_m) * (
             z / np.float32(noise.depth_noise_ref_range_m)) ** np.float32(noise.depth_noise_exponent)
-        z = z + sigma * cam._rng.standard_normal(z.shape, dtype=np.float32)
+        draws = np.empty(z.shape, dtype=np.float32)
+        _core.fill_standard_normal(draws, int(cam._rng.bit_generator.random_raw()))
+        z = z + sigma * draws
     z[invalid] = np.nan
     R = T[:3, :3].astype(np.float32)
     pts = [z * (R[i, 0] * cam._x + R[i, 1] * cam._y + R[i, 2]) + np.float32(T[i, 3]) for i in range(3)]
