@@ -31,6 +31,7 @@ class ScanConfig:
     return_settle_timeout_s: float = 1.0
     rough_view_s: float = 0.5
     settle_view_s: float = 0.3
+    target_view_timeout_s: float = 0.3
     scan_timeout_s: float = 120.0
     closer_look: bool = True
     closer_look_rules: tuple[str, ...] = ("wide",)
@@ -49,6 +50,7 @@ class ScanConfig:
         "return_settle_timeout_s": duration_s(600.0),
         "rough_view_s": duration_s(600.0),
         "settle_view_s": duration_s(600.0, zero=True),
+        "target_view_timeout_s": duration_s(600.0, zero=True),
         "scan_timeout_s": duration_s(),
         "closer_look_standoff_m": length_m(),
         "closer_look_min_solidity": POSITIVE_FRACTION,

@@ -70,6 +70,18 @@ def in_view(loop, tid: int) -> bool:
     return cloud is not None and len(cloud.of(int(tid))) > 0
 
 
+def _wait_in_view(ctx: PickContext, tid: int) -> bool:
+    """Look until a frame shows track ``tid``, up to ``scan.target_view_timeout_s``; whether one
+    did. The grasp source reads the object's points from the latest frame, and where the
+    tracker holds two tracks of one object (an L or T shape seen as two parts, say) the other
+    track takes its points in some frames."""
+    loop = ctx.loop
+    if in_view(loop, tid):
+        return True
+    return ctx.rt.spin_until(lambda: in_view(loop, tid), ctx.settings.scan.target_view_timeout_s,
+                             look=True)
+
+
 def _reprobe_centre(ctx: PickContext, xy) -> Optional[np.ndarray]:
     """Where to look from above before picking at ``xy`` (None: the track is NADIR and in
     view)."""
@@ -181,6 +193,7 @@ def grasp_request(ctx: PickContext, xy, target, check_collisions: bool = False) 
 
 
 def _candidates(ctx: PickContext, xy, sel) -> list:
+    _wait_in_view(ctx, int(sel.tid))
     target = next((t for t in ctx.loop.tracks() if t.tid == sel.tid), None)
     return list(ctx.source.propose(grasp_request(ctx, xy, target, check_collisions=True)))
 

@@ -69,3 +69,37 @@ def test_the_re_probe_looks_from_above_at_an_oblique_or_hidden_target(monkeypatc
     assert (centre is not None) is looks
     if looks:
         assert list(centre) == [0.5, 0.1, 0.23]
+
+
+class _Frames:
+    """A camera whose frames show track 4 from the ``shows_from``-th frame on (another track
+    of the same object takes its points before that)."""
+
+    def __init__(self, shows_from: int):
+        self.frames, self.shows_from, self.looked = 0, shows_from, []
+
+    def cloud(self):
+        return _Cloud([4] if self.frames >= self.shows_from else [])
+
+    def spin_until(self, done, timeout_s, look=False):
+        self.looked.append(look)
+        for _ in range(int(round(timeout_s * 30))):  # 30 Hz frames while looking
+            if done():
+                return True
+            self.frames += 1
+        return done()
+
+
+@pytest.mark.parametrize("shows_from, found, looked", [
+    (0, True, False),   # in the latest frame already: no wait, no frame
+    (3, True, True),    # the third frame shows it
+    (50, False, True),  # not within the timeout: the grasp source gets the latest frame
+])
+def test_grasps_are_asked_for_once_a_frame_shows_the_selected_object(shows_from, found, looked):
+    cam = _Frames(shows_from)
+    loop = SimpleNamespace(scene_cloud=cam.cloud)
+    ctx = SimpleNamespace(loop=loop, rt=SimpleNamespace(spin_until=cam.spin_until),
+                          settings=SimpleNamespace(scan=SimpleNamespace(target_view_timeout_s=0.3)))
+    assert pick._wait_in_view(ctx, 4) is found
+    assert cam.looked == ([True] if looked else [])
+    assert cam.frames == (min(shows_from, 9) if looked else 0)
