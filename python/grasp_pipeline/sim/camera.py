@@ -18,8 +18,8 @@ Per frame, on the *clean* depth: pixels nearer than ``min_range_m`` or farther t
 noise along the optical axis, ``sigma(z) = depth_noise_sigma_m * (z / depth_noise_ref_range_m)
 ** depth_noise_exponent`` (``config/depth_noise.yaml``, the model perception expects too; 2 mm
 at 0.4 m by default; one standard normal draw per pixel, from the C++ core's seeded stream,
-its seed drawn per frame from a generator of ``camera.seed``), and the back-projection ``p_cam = z * ((u - cx)/fx, (v - cy)/fy, 1)``,
-``p_world = T_world_camera p_cam``.
+its seed drawn per frame from a generator of ``camera.seed``), and the back-projection
+``p_cam = z * ((u - cx)/fx, (v - cy)/fy, 1)``, ``p_world = T_world_camera p_cam``.
 
 Colour (``camera.rgb``, on by default): ``Frame.rgb`` is rendered by the same camera at the
 same instant as the depth, so pixel (u, v) of both shows the same surface. GL: colour and depth
