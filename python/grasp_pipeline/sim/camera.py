@@ -19,7 +19,9 @@ noise along the optical axis, ``sigma(z) = depth_noise_sigma_m * (z / depth_nois
 ** depth_noise_exponent`` (``config/depth_noise.yaml``, the model perception expects too; 2 mm
 at 0.4 m by default; one standard normal draw per pixel, from the C++ core's seeded stream,
 its seed drawn per frame from a generator of ``camera.seed``), and the back-projection
-``p_cam = z * ((u - cx)/fx, (v - cy)/fy, 1)``, ``p_world = T_world_camera p_cam``.
+``p_cam = z * ((u - cx)/fx, (v - cy)/fy, 1)``, ``p_world = T_world_camera p_cam``. While no
+geom and not the camera moved more than ``still_tolerance_m`` since the last render, a frame
+reuses that render's clean images (:mod:`.still_scene`) and draws its own noise.
 
 Colour (``camera.rgb``, on by default): ``Frame.rgb`` is rendered by the same camera at the
 same instant as the depth, so pixel (u, v) of both shows the same surface. GL: colour and depth
@@ -69,6 +71,7 @@ from ..robot.depth_noise import DepthNoiseConfig, load_depth_noise_config
 from ..robot.description import CAMERA_NAME
 from .gl_backend import gl_in_effect, new_renderer
 from .rgbd_renderer import RgbdRenderer
+from .still_scene import CleanImages, StillSceneCache
 
 log = logging.getLogger(__name__)
 
@@ -213,6 +216,7 @@ class DepthCamera:
         self._mat_texel: np.ndarray | None = None  # (nmat, 3) mean texel of each material
         self._renderer: RgbdRenderer | None = None
         self._frame_index = 0
+        self._still = StillSceneCache(config.still_tolerance_m)
         self._pool: ThreadPoolExecutor | None = None
         self._ray_scenes: OrderedDict[tuple, _RayScene] = OrderedDict()
         self._raycast_threads = 1
@@ -540,27 +544,50 @@ class DepthCamera:
             z, rgb, geoms = self._clean_images_gl(want_geoms)
         return z, rgb, geoms
 
-    def capture(self) -> Frame:
-        """One frame (depth, points and, unless ``rgb`` is off, colour) of the state currently
-        in ``data`` (kinematics must be up to date). With labels on, the per-pixel geom ids of
-        this frame replace those of the previous one (evaluation code reads them through the
-        ground-truth module)."""
+    def _render_clean(self) -> CleanImages:
+        """Render the scene now: clean depth with the invalid (out of range) pixels and the
+        grazing ones masked, colour, labels, and the camera pose."""
         cfg = self.config
         T = self.pose()
         z, rgb, geoms = self._clean_images(T)
         invalid = ~((z >= cfg.min_range_m) & (z <= cfg.max_range_m))
-        # NaN where invalid, then the grazing mask (in place: z is this frame's own array)
+        # NaN where invalid, then the grazing mask (in place: z is this render's own array)
         _core.mask_invalid_and_grazing(z, invalid, self._x_row, self._y_col, self._ray_norm2,
                                        float(self._fx), float(self._fy),
                                        float(self._cos_grazing**2))
-        if cfg.add_noise:
-            z = self._with_noise(z)
+        return CleanImages(T, z, invalid, rgb, geoms)
+
+    def _clean_for_frame(self) -> CleanImages:
+        """This frame's clean images: the kept render while nothing moved (``still``), else a
+        new render; kept images are handed out as copies where a frame could change them."""
+        still = self._still
+        if not still.enabled:
+            return self._render_clean()
+        key = still.scene_key(self.data, self.cam_id, (self._eval_labels, self._rgb))
+        kept = still.lookup(key)
+        if kept is None:
+            kept = self._render_clean()
+            still.keep(key, kept)
+        return CleanImages(kept.T_world_camera, kept.depth if self.config.add_noise else kept.depth.copy(),
+                           kept.invalid, None if kept.rgb is None else kept.rgb.copy(),
+                           None if kept.geoms is None else kept.geoms.copy())
+
+    def capture(self) -> Frame:
+        """One frame (depth, points and, unless ``rgb`` is off, colour) of the state currently
+        in ``data`` (kinematics must be up to date): a new render, or the last one while
+        nothing in view moved (:mod:`.still_scene`), with this frame's own noise. With labels
+        on, the per-pixel geom ids of this frame replace those of the previous one (evaluation
+        code reads them through the ground-truth module)."""
+        clean = self._clean_for_frame()
+        T, z, geoms = clean.T_world_camera, clean.depth, clean.geoms
+        if self.config.add_noise:
+            z = self._with_noise(z)  # a new array: the clean depth is left as it is
         pts_world = _core.depth_to_world_points(  # NaN where invalid, then the points
-            z, invalid, self._x_row, self._y_col,
+            z, clean.invalid, self._x_row, self._y_col,
             np.ascontiguousarray(T[:3, :3], dtype=np.float32), T[:3, 3].astype(np.float32))
         frame = Frame(points_world=pts_world, depth=z, time_s=float(self.data.time),
-                      T_world_camera=T, K=self.K.copy(), backend=self.backend,
-                      index=self._frame_index, rgb=rgb)
+                      T_world_camera=T.copy(), K=self.K.copy(), backend=self.backend,
+                      index=self._frame_index, rgb=clean.rgb)
         if geoms is not None:
             geoms[np.isnan(z)] = -1  # labels only where the frame has a point
         self._eval_geoms = geoms

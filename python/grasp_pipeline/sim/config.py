@@ -30,7 +30,9 @@ class CameraConfig:
     compute per-pixel object labels (evaluation only, read through the ground-truth module,
     never in the frame); ``frames``: ``on_demand`` renders a frame only while a consumer
     requests frames (``SimWorld.request_frames``), ``continuous`` at ``rate_hz`` whenever a
-    frame listener exists (the old path, kept for comparisons)."""
+    frame listener exists (the old path, kept for comparisons); ``still_tolerance_m``: a frame
+    reuses the last render while no geom and not the camera moved more than this since
+    (:mod:`.still_scene`; 0: a render per frame)."""
 
     width_px: int = 640
     height_px: int = 480
@@ -45,6 +47,7 @@ class CameraConfig:
     seed: int = 0
     rgb: bool = True
     labels: bool = False
+    still_tolerance_m: float = 1e-6
 
     RANGES: ClassVar[Mapping[str, Range]] = {
         "width_px": count(8, MAX_IMAGE_PX, " px"),
@@ -55,6 +58,7 @@ class CameraConfig:
         "max_range_m": length_m(100.0),
         "grazing_max_deg": Range(0.0, 90.0, lo_open=True, unit=" deg"),
         "seed": count(0, 2**63 - 1),
+        "still_tolerance_m": length_m(0.01, zero=True),
     }
 
     def validate(self) -> None:
