@@ -82,6 +82,23 @@ int bit_length(std::uint64_t x) {
   return b;
 }
 
+/// (key << bits) | position of the first point of each distinct key, in the points' order:
+/// a bit per possible key marks those already met (n_keys bits, at most 64 per point).
+std::vector<std::uint64_t> first_of_each_key(const std::vector<std::int64_t>& key, std::size_t n_keys,
+                                             int bits) {
+  std::vector<std::uint64_t> seen((n_keys + 63) / 64, 0);
+  std::vector<std::uint64_t> first;
+  for (std::size_t i = 0; i < key.size(); ++i) {
+    const auto k = static_cast<std::uint64_t>(key[i]);
+    std::uint64_t& word = seen[k >> 6];
+    const std::uint64_t bit = std::uint64_t{1} << (k & 63);
+    if (word & bit) continue;
+    word |= bit;
+    first.push_back((k << bits) | i);
+  }
+  return first;
+}
+
 }  // namespace
 
 std::vector<std::int64_t> first_per_voxel(std::size_t n, const double* points,
@@ -99,16 +116,20 @@ std::vector<std::int64_t> first_per_voxel(std::size_t n, const double* points,
       if (i == 0 || kp[i].first != kp[i - 1].first) first.push_back(kp[i].second);
     return first;
   }
-  std::vector<std::uint64_t> packed(n);
-  std::uint64_t top = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    packed[i] = (static_cast<std::uint64_t>(key[i]) << bits) | i;
-    top = std::max(top, packed[i]);
+  std::vector<std::uint64_t> packed;
+  if (n_keys <= 64.0L * static_cast<long double>(n)) {
+    // few possible keys: sort only the first point of each (already in the points' order)
+    packed = first_of_each_key(key, static_cast<std::size_t>(n_keys), bits);
+  } else {
+    packed.resize(n);
+    for (std::size_t i = 0; i < n; ++i) packed[i] = (static_cast<std::uint64_t>(key[i]) << bits) | i;
   }
+  std::uint64_t top = 0;
+  for (std::uint64_t x : packed) top = std::max(top, x);
   // the positions are already in order and the sort is stable: only the key's bits are sorted
   radix_sort(packed, bits, bit_length(top));
   const std::uint64_t mask = (std::uint64_t{1} << bits) - 1;
-  for (std::size_t i = 0; i < n; ++i)
+  for (std::size_t i = 0; i < packed.size(); ++i)
     if (i == 0 || (packed[i] >> bits) != (packed[i - 1] >> bits))
       first.push_back(static_cast<std::int64_t>(packed[i] & mask));
   return first;

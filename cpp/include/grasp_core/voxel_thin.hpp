@@ -1,7 +1,8 @@
 // Thinning of a labelled cloud to one point per (voxel, owner) pair: the first point of each
 // pair, pairs in increasing key order — what numpy's
 // `np.unique(key, return_index=True)[1]` gives over the key below, index for index, computed
-// with a radix sort instead of a comparison sort.
+// with a radix sort instead of a comparison sort (of the first point of each key only, when
+// the cloud's box holds few possible keys: at most 64 per point).
 #pragma once
 
 #include <cstddef>
