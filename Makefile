@@ -14,6 +14,8 @@ PY := $(VENV)/bin/python
 PIP := $(VENV)/bin/pip
 GTEST_BUILD := build/gtest
 JOBS ?= 2
+# pytest processes (pytest-xdist): one per core, at most 4 (each holds the simulator, torch, ...)
+TEST_WORKERS ?= $(shell n=$$(nproc 2>/dev/null || echo 1); echo $$(( n < 4 ? n : 4 )))
 
 APT_PACKAGES := build-essential cmake python3-dev python3-venv libpcl-dev libeigen3-dev \
 	libgtest-dev libegl1 libegl-mesa0 libgl1-mesa-dri libosmesa6
@@ -63,8 +65,10 @@ gtest: system-deps
 	cmake --build $(GTEST_BUILD) -j $(JOBS)
 	$(GTEST_BUILD)/grasp_core_tests --gtest_brief=1
 
+# A test file runs whole in one process (--dist loadfile): its module fixtures (a simulated
+# round, a recorded dataset) are built once.
 pytest: setup
-	$(PY) -m pytest -q tests/python
+	$(PY) -m pytest -q -n $(TEST_WORKERS) --dist loadfile tests/python
 
 bench: setup
 	$(PIP) install -q ".[test,bench]" $(QUIET_PIP)
