@@ -6,6 +6,7 @@
 // runs with the GIL released.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
 
 #include <algorithm>
 #include <cmath>
@@ -46,6 +47,52 @@ py::array_t<std::int64_t> first_per_voxel_py(const py::object& points, const py:
   py::array_t<std::int64_t> out(static_cast<py::ssize_t>(first.size()));
   std::copy(first.begin(), first.end(), out.mutable_data());
   return out;
+}
+
+/// A vector's values as a numpy array of `shape` that owns them (no copy).
+template <typename T>
+py::array_t<T> owning_array(std::vector<T>&& values, std::vector<py::ssize_t> shape) {
+  auto* heap = new std::vector<T>(std::move(values));
+  py::capsule owner(heap, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+  return py::array_t<T>(shape, heap->data(), owner);
+}
+
+template <typename F>
+grasp_core::ThinnedRows thin_owned_rows_of(const py::object& points, const py::object& labels,
+                                           const grasp_core::RowOwners& owners, double voxel_m) {
+  py::array p = checked<F>(points, "points", {-1, 3}, false);
+  const py::ssize_t n = p.shape(0);
+  py::array l = checked<std::int32_t>(labels, "labels", {n}, false);
+  const auto* pp = static_cast<const F*>(p.data());
+  const auto* lp = static_cast<const std::int32_t*>(l.data());
+  py::gil_scoped_release release;
+  return grasp_core::thin_owned_rows(static_cast<std::size_t>(n), pp, 3, lp, owners, voxel_m);
+}
+
+py::tuple thin_owned_rows_py(const py::object& points, const py::object& labels,
+                             std::vector<std::int64_t> owner_of_label, bool environment_emitted,
+                             std::int64_t environment_owner, std::int64_t untracked_owner,
+                             int environment_label, double voxel_m) {
+  if (!(voxel_m > 0.0) || !std::isfinite(voxel_m))
+    throw py::value_error("voxel_m: expected a positive finite size in metres, got " +
+                          std::to_string(voxel_m));
+  if (py::isinstance<py::array>(points)) {  // a frame without rows: nothing to keep
+    const auto a = py::reinterpret_borrow<py::array>(points);
+    if (a.ndim() == 2 && a.shape(0) == 0 && a.shape(1) == 3)
+      return py::make_tuple(py::array_t<double>(std::vector<py::ssize_t>{0, 3}),
+                            py::array_t<std::int64_t>(std::vector<py::ssize_t>{0}));
+  }
+  grasp_core::RowOwners owners;
+  owners.of_label = std::move(owner_of_label);
+  owners.untracked = untracked_owner;
+  owners.environment = environment_owner;
+  owners.environment_emitted = environment_emitted;
+  owners.environment_label = environment_label;
+  grasp_core::ThinnedRows rows = py::isinstance<py::array_t<float>>(points)
+      ? thin_owned_rows_of<float>(points, labels, owners, voxel_m)
+      : thin_owned_rows_of<double>(points, labels, owners, voxel_m);
+  const auto m = static_cast<py::ssize_t>(rows.owner.size());
+  return py::make_tuple(owning_array(std::move(rows.points), {m, 3}), owning_array(std::move(rows.owner), {m}));
 }
 
 /// Two finite float64 values from a sequence / array (named in errors).
@@ -127,6 +174,14 @@ void bind_cloud_passes(py::module_& m) {
         "(N, 3) float64 cloud of finite points with (N,) int64 owners, in increasing order of "
         "the pair's key ((ix * dy + iy) * dz + iz) * n_owner + owner - min(owner), voxel "
         "indices counted from the cloud's minimum per axis: np.unique(key, return_index=True)[1].");
+  m.def("thin_owned_rows", &thin_owned_rows_py, py::arg("points"), py::arg("labels"),
+        py::arg("owner_of_label"), py::arg("environment_emitted"), py::arg("environment_owner"),
+        py::arg("untracked_owner"), py::arg("environment_label"), py::arg("voxel_m"),
+        "(points (M, 3) float64, owner (M,) int64): the rows of an (N, 3) float32/float64 "
+        "frame cloud with (N,) int32 scene-filter labels that have an owner — an object group "
+        "g >= 0 owned by owner_of_label[g] (untracked_owner past its end), the environment label "
+        "owned by environment_owner when environment_emitted — and finite coordinates, thinned "
+        "to the first row of each (voxel, owner) pair in first_per_voxel's key order.");
   m.def("thin_matmul", &thin_matmul_py, py::arg("a"), py::arg("b"),
         "a (M, K) @ b (K, N), both C-ordered float32 or both float64, on the calling thread, "
         "each element summed in order k = 0, 1, ... without fused multiply-add: the same "

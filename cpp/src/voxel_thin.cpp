@@ -135,4 +135,53 @@ std::vector<std::int64_t> first_per_voxel(std::size_t n, const double* points,
   return first;
 }
 
+namespace {
+
+template <typename F>
+ThinnedRows thin_rows(std::size_t n, const F* xyz, std::size_t row_stride, const std::int32_t* labels,
+                      const RowOwners& owners, double voxel_m) {
+  std::vector<double> points;
+  std::vector<std::int64_t> owner;
+  points.reserve(3 * n);
+  owner.reserve(n);
+  const std::size_t n_groups = owners.of_label.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::int32_t label = labels[i];
+    std::int64_t who;
+    if (label >= 0)
+      who = static_cast<std::size_t>(label) < n_groups ? owners.of_label[label] : owners.untracked;
+    else if (label == owners.environment_label && owners.environment_emitted)
+      who = owners.environment;
+    else
+      continue;
+    const F* p = xyz + i * row_stride;
+    const double x = p[0], y = p[1], z = p[2];
+    if (!(std::isfinite(x) && std::isfinite(y) && std::isfinite(z))) continue;
+    points.insert(points.end(), {x, y, z});
+    owner.push_back(who);
+  }
+  const std::vector<std::int64_t> first = first_per_voxel(owner.size(), points.data(), owner.data(), voxel_m);
+  ThinnedRows out;
+  out.points.resize(3 * first.size());
+  out.owner.resize(first.size());
+  for (std::size_t k = 0; k < first.size(); ++k) {
+    const auto i = static_cast<std::size_t>(first[k]);
+    std::copy(&points[3 * i], &points[3 * i] + 3, &out.points[3 * k]);
+    out.owner[k] = owner[i];
+  }
+  return out;
+}
+
+}  // namespace
+
+ThinnedRows thin_owned_rows(std::size_t n, const float* xyz, std::size_t row_stride,
+                            const std::int32_t* labels, const RowOwners& owners, double voxel_m) {
+  return thin_rows(n, xyz, row_stride, labels, owners, voxel_m);
+}
+
+ThinnedRows thin_owned_rows(std::size_t n, const double* xyz, std::size_t row_stride,
+                            const std::int32_t* labels, const RowOwners& owners, double voxel_m) {
+  return thin_rows(n, xyz, row_stride, labels, owners, voxel_m);
+}
+
 }  // namespace grasp_core

@@ -1414,6 +1414,10 @@ def squared_distance_transform(occupied: numpy.typing.NDArray[numpy.bool_]) -> n
     """
     (nx, ny, nz) int64: for each voxel of a C-ordered bool grid, the exact squared Euclidean distance in voxels to the nearest True voxel (-1 everywhere when there is none).
     """
+def thin_owned_rows(points: numpy.typing.NDArray[numpy.float32] | numpy.typing.NDArray[numpy.float64], labels: numpy.typing.NDArray[numpy.int32], owner_of_label: Sequence[int], environment_emitted: bool, environment_owner: int, untracked_owner: int, environment_label: int, voxel_m: float) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.int64]]:
+    """
+    (points (M, 3) float64, owner (M,) int64): the rows of an (N, 3) float32/float64 frame cloud with (N,) int32 scene-filter labels that have an owner — an object group g >= 0 owned by owner_of_label[g] (untracked_owner past its end), the environment label owned by environment_owner when environment_emitted — and finite coordinates, thinned to the first row of each (voxel, owner) pair in first_per_voxel's key order.
+    """
 def thin_matmul(a: numpy.typing.NDArray[numpy.float32] | numpy.typing.NDArray[numpy.float64], b: numpy.typing.NDArray[numpy.float32] | numpy.typing.NDArray[numpy.float64]) -> numpy.typing.NDArray[numpy.float32] | numpy.typing.NDArray[numpy.float64]:
     """
     a (M, K) @ b (K, N), both C-ordered float32 or both float64, on the calling thread, each element summed in order k = 0, 1, ... without fused multiply-add: the same values on every machine and thread count.

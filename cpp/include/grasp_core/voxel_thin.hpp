@@ -19,4 +19,28 @@ namespace grasp_core {
 std::vector<std::int64_t> first_per_voxel(std::size_t n, const double* points,
                                           const std::int64_t* owner, double voxel_m);
 
+/// Who owns a labelled row of a frame (labels as the scene filter gives them: >= 0 an object
+/// group, `environment_label` the environment, anything else dropped).
+struct RowOwners {
+  std::vector<std::int64_t> of_label;  ///< owner of object group g (g < size), else `untracked`
+  std::int64_t untracked = -2;         ///< owner of an object group the table does not name
+  std::int64_t environment = -1;       ///< owner of the environment rows ...
+  bool environment_emitted = false;    ///< ... kept only when the filter emits them
+  int environment_label = -1;
+};
+
+/// One frame's rows thinned to one per (voxel, owner) pair.
+struct ThinnedRows {
+  std::vector<double> points;       ///< m x 3 row-major, the kept rows' values as float64
+  std::vector<std::int64_t> owner;  ///< m
+};
+
+/// The rows of `n` labelled points (`xyz`: row i at xyz + i * row_stride, three values) that
+/// have an owner (`owners`) and three finite coordinates, as float64, thinned with
+/// first_per_voxel: the first of each (voxel, owner) pair, pairs in key order.
+ThinnedRows thin_owned_rows(std::size_t n, const float* xyz, std::size_t row_stride,
+                            const std::int32_t* labels, const RowOwners& owners, double voxel_m);
+ThinnedRows thin_owned_rows(std::size_t n, const double* xyz, std::size_t row_stride,
+                            const std::int32_t* labels, const RowOwners& owners, double voxel_m);
+
 }  // namespace grasp_core

@@ -72,9 +72,14 @@ class FrameResult:
         return self.labels >= 0
 
     @property
+    def environment_emitted(self) -> bool:
+        """Whether the scene filter emits the environment rows (from the first lock on)."""
+        return bool(self.raw.filter.environment_emitted)
+
+    @property
     def environment_mask(self) -> np.ndarray:
         """Environment rows; empty before the first lock (method.md §1.5: nothing is emitted)."""
-        if not self.raw.filter.environment_emitted:
+        if not self.environment_emitted:
             return np.zeros(len(self.labels), dtype=bool)
         return self.labels == _core.LABEL_ENVIRONMENT
 

@@ -52,39 +52,28 @@ class SceneCloud:
         return len(self.points)
 
 
-def voxel_thin(points: np.ndarray, owner: np.ndarray, voxel_m: float) -> tuple[np.ndarray, np.ndarray]:
-    """One point (the first) per (voxel, owner) pair, in the order of their (voxel index x,
-    y, z, owner) — ``np.unique`` over that key with ``return_index``, computed by the C++
-    core's radix sort. ``points``: (N, 3) finite; ``owner``: (N,) integers."""
-    if len(points) == 0:
-        return points, owner
-    first = _core.first_per_voxel(np.ascontiguousarray(points, dtype=np.float64),
-                                  np.ascontiguousarray(owner, dtype=np.int64), float(voxel_m))
-    return np.take(points, first, axis=0), np.take(owner, first)
+def _owner_of_label(raw) -> list[int]:
+    """Per object group id (a label >= 0): the track id of the estimate made of that group,
+    :data:`UNTRACKED` for a group no estimate names (ids past the list's end too)."""
+    lut = {int(lab): int(tid) for lab, tid in zip(raw.estimate_labels, raw.tids)}
+    table = [UNTRACKED] * (max((lab for lab in lut if lab >= 0), default=-1) + 1)
+    for lab, tid in lut.items():
+        if lab >= 0:
+            table[lab] = tid
+    return table
 
 
 def cloud_from_frame(result, plane, band_m: float, voxel_m: float) -> SceneCloud:
     """A :class:`SceneCloud` of one processed frame (``result``: ``FrameResult``; ``plane``:
     the locked ``_core.Plane``). Object points take the track id of their cluster's estimate;
-    environment points are kept only once the scene filter emits them (method.md §1.5)."""
-    labels = np.asarray(result.labels)
-    raw = result.raw
-    owner = np.full(len(labels), UNTRACKED, dtype=np.int64)
-    lut = {int(lab): int(tid) for lab, tid in zip(raw.estimate_labels, raw.tids)}
-    obj = labels >= 0
-    if lut and np.any(obj):
-        top = max(int(labels.max()), max(lut)) + 1
-        table = np.full(top, UNTRACKED, dtype=np.int64)
-        for lab, tid in lut.items():
-            if lab >= 0:
-                table[lab] = tid
-        owner[obj] = table[labels[obj]]
-    env = np.asarray(result.environment_mask)
-    owner[env] = ENVIRONMENT
-    keep = np.flatnonzero(obj | env)  # converted to float, tested finite: only these rows
-    pts = np.take(np.asarray(result.points).reshape(-1, 3), keep, axis=0).astype(float, copy=False)
-    finite = np.isfinite(pts[:, 0]) & np.isfinite(pts[:, 1]) & np.isfinite(pts[:, 2])
-    if not finite.all():
-        pts, keep = pts[finite], keep[finite]
-    p, o = voxel_thin(pts, owner[keep], voxel_m)
+    environment points are kept only once the scene filter emits them (method.md §1.5). The
+    rows with an owner and finite coordinates, as float64, are thinned to the first of each
+    (voxel, owner) pair, pairs in the order of their (voxel index x, y, z, owner) key — what
+    ``np.unique`` over that key with ``return_index`` keeps — in one pass of the C++ core."""
+    points = np.asarray(result.points).reshape(-1, 3)
+    if points.dtype != np.float32:
+        points = points.astype(float, copy=False)
+    p, o = _core.thin_owned_rows(np.ascontiguousarray(points), np.ascontiguousarray(result.labels, dtype=np.int32),
+                                 _owner_of_label(result.raw), bool(result.environment_emitted),
+                                 ENVIRONMENT, UNTRACKED, int(_core.LABEL_ENVIRONMENT), float(voxel_m))
     return SceneCloud(p, o, np.asarray(plane.n, dtype=float), float(plane.c), float(band_m))
