@@ -18,11 +18,12 @@ void bind_scene_volume(py::module_& m);
 void bind_depth_image(py::module_& m);
 void bind_cloud_passes(py::module_& m);
 void bind_distance_transform(py::module_& m);
+void bind_pad_contacts(py::module_& m);
 }  // namespace grasp_bind
 
 PYBIND11_MODULE(_core, m) {
   m.doc() = "grasp_pipeline perception core (C++17, Eigen, PCL): scene filter, object "
-            "estimates, grasp pose math, tracker, the per-frame Perception entry point, the planning state checker, the arm IK refinement, the scene volume and the simulated depth image's per-pixel passes and the passes over whole clouds (voxel thinning, tray cells, thin products) and the occupancy grid's distance transform";
+            "estimates, grasp pose math, tracker, the per-frame Perception entry point, the planning state checker, the arm IK refinement, the scene volume and the simulated depth image's per-pixel passes and the passes over whole clouds (voxel thinning, tray cells, thin products), the occupancy grid's distance transform and the grasp sampler's contact passes";
   grasp_bind::bind_types(m);
   grasp_bind::bind_scene_filter(m);
   grasp_bind::bind_estimate(m);
@@ -34,4 +35,5 @@ PYBIND11_MODULE(_core, m) {
   grasp_bind::bind_depth_image(m);
   grasp_bind::bind_cloud_passes(m);
   grasp_bind::bind_distance_transform(m);
+  grasp_bind::bind_pad_contacts(m);
 }

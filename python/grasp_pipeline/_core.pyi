@@ -1386,6 +1386,18 @@ def metric_depth(raw: numpy.typing.NDArray[numpy.float32], c_coef: float, d_coef
     """
     (H, W) float32 metres along the optical axis from a perspective render's (H, W) float32 depth buffer (rows bottom to top): float(d_coef / (raw + c_coef)) in float64, rows flipped to top to bottom (mujoco.Renderer's linearisation).
     """
+def pad_contact_ends(xyz: numpy.typing.NDArray[numpy.float32], column: numpy.typing.NDArray[numpy.int64], x0: numpy.typing.NDArray[numpy.float64], closing: numpy.typing.NDArray[numpy.float32], closing_column: numpy.typing.NDArray[numpy.int64], z_tcp: numpy.typing.NDArray[numpy.float64], y_lo: numpy.typing.NDArray[numpy.float32], y_hi: numpy.typing.NDArray[numpy.float32], y_mid: numpy.typing.NDArray[numpy.float32], inner: numpy.typing.NDArray[numpy.float32], outer: numpy.typing.NDArray[numpy.float32], strip_half_width_m: float, half_length_m: float, contact_depth_m: float, cos_cone: float, finger_half_width_m: float) -> dict:
+    """
+    {'upper', 'lower': {x_lo, x_hi, normal_sum (float32), count, facing (int64)}, 'blocked_upper', 'blocked_lower'}: per frame the contact patches at the material's ends and the points in each finger's way (grasp_core/pad_contacts.hpp). closing (Q, N) float32: |n.c| of the points' normals per closing axis, closing_column (K,) int64.
+    """
+def pad_depth_bounds(xyz: numpy.typing.NDArray[numpy.float32], column: numpy.typing.NDArray[numpy.int64], x0: numpy.typing.NDArray[numpy.float64], strip_half_width_m: float, palm_half_width_m: float) -> tuple[numpy.typing.NDArray[numpy.float32], numpy.typing.NDArray[numpy.float32], numpy.typing.NDArray[numpy.float32]]:
+    """
+    (z_first, z_last, z_palm) float32 (K,): per frame the smallest and largest Z of the points with |X - x0| <= strip_half_width_m (float64) and the smallest Z of those within palm_half_width_m (inf / -inf: none). xyz: (3, C, N) float32, the points' X, Y, Z in each of C columns; column (K,) int64: each frame's column; x0 (K,) float64.
+    """
+def pad_material(xyz: numpy.typing.NDArray[numpy.float32], column: numpy.typing.NDArray[numpy.int64], x0: numpy.typing.NDArray[numpy.float64], strip_half_width_m: float, z_tcp: numpy.typing.NDArray[numpy.float32] | numpy.typing.NDArray[numpy.float64], half_length_m: float) -> tuple[numpy.typing.NDArray[numpy.float32], numpy.typing.NDArray[numpy.float32], numpy.typing.NDArray[numpy.int64]]:
+    """
+    (y_lo, y_hi float32, count int64) (K,): per frame the smallest and largest Y and the count of the points in the pads' strip with |Z - z_tcp| <= half_length_m, computed in z_tcp's type (float32 or float64).
+    """
 def pca_box(points: Points, max_abs_coordinate_m: float = 1000.0) -> PcaBox | None:
     """
     PCA box of the rows that are finite and within max_abs_coordinate_m, or None (fewer than 3 points, coincident, collinear).

@@ -28,9 +28,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...motion.thin_matmul import thin_matmul
 from .candidates import Frames
 from .hand_model import HandModel
+from .pad_passes import EndLimits, PadEnd, passes_for
 from .target_model import TargetModel
 
 #: Refusal codes of a frame (the reason strings, in this order, for reports).
@@ -94,23 +94,6 @@ def concat_contacts(first: Contacts, second: Contacts) -> Contacts:
                        for f in fields(Contacts)})
 
 
-def _masked_min(v: np.ndarray, m: np.ndarray) -> np.ndarray:
-    """(K,) the smallest of ``v`` (N, K) where ``m`` holds, per column (inf: none) — as
-    ``np.min(v, axis=0, where=m, initial=np.inf)``, whose masked loop is twice as slow: the
-    values left out become inf, which no minimum takes (the same values, in the same order)."""
-    if len(v) == 0:
-        return np.min(v, axis=0, where=m, initial=np.inf)
-    return np.where(m, v, np.inf).min(axis=0)
-
-
-def _masked_max(v: np.ndarray, m: np.ndarray) -> np.ndarray:
-    """(K,) the largest of ``v`` (N, K) where ``m`` holds, per column (-inf: none); see
-    :func:`_masked_min`."""
-    if len(v) == 0:
-        return np.max(v, axis=0, where=m, initial=-np.inf)
-    return np.where(m, v, -np.inf).max(axis=0)
-
-
 def _lowest(nb: np.ndarray, nc: np.ndarray, na: np.ndarray, corners: np.ndarray) -> np.ndarray:
     """(K,) the lowest height, relative to the TCP, of the hand ``corners`` (TCP frame) for
     frames whose axes b, c, a have the table-normal components nb, nc, na — the worse of the
@@ -137,107 +120,60 @@ def table_bound(frames: Frames, y_mid: np.ndarray, opening: np.ndarray, hand: Ha
     return out
 
 
-def _material(X, Y, Z, strip, z_tcp, hand: HandModel):
-    """(material mask, y_lo, y_hi, count) in the pads' window at depth ``z_tcp``."""
-    mat = strip & (np.abs(Z - z_tcp[None, :]) <= hand.pad_half_length_m)
-    return mat, _masked_min(Y, mat), _masked_max(Y, mat), mat.sum(axis=0)
+def _coverage(end: PadEnd, hand: HandModel) -> np.ndarray:
+    """(K,) the share of the pad's width that the contact patch ``end`` covers along X."""
+    span = end.x_hi - end.x_lo
+    return np.clip(np.nan_to_num(span, neginf=0.0, posinf=0.0) / (2.0 * hand.pad_half_width_m), 0.0, 1.0)
 
 
-def _coverage(X, Y, mat, y_edge, sign, lim: ContactLimits, hand: HandModel):
-    """(K,) the share of the pad's width the material within ``contact_depth_m`` of the
-    edge ``y_edge`` covers (``sign`` +1: the upper edge)."""
-    d = Y - y_edge[None, :]  # sign · d >= −depth, without the product (negation is exact)
-    near = mat & ((d >= -lim.contact_depth_m) if sign > 0 else (d <= lim.contact_depth_m))
-    span = _masked_max(X, near) - _masked_min(X, near)
-    return np.clip(np.nan_to_num(span, neginf=0.0, posinf=0.0) / (2.0 * hand.pad_half_width_m), 0.0, 1.0), near
-
-
-def _antipodal(a: np.ndarray, facing: np.ndarray, near: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(mean |n·c|, share of the points facing the pad within the cone) of the points in
-    ``near`` per frame, ``a`` (N, K) being |n·c| and ``facing`` (N, K) a >= cos(cone); NaN
-    where there are none."""
-    cnt = near.sum(axis=0)
-    mean = np.where(cnt > 0, np.where(near, a, 0.0).sum(axis=0) / np.maximum(cnt, 1), np.nan)
-    inside = np.where(cnt > 0, (near & facing).sum(axis=0) / np.maximum(cnt, 1), np.nan)
+def _antipodal(end: PadEnd) -> tuple[np.ndarray, np.ndarray]:
+    """(mean |n·c|, share of the points facing the pad within the cone) of the patch ``end``
+    per frame; NaN where it has no point."""
+    cnt = end.count
+    mean = np.where(cnt > 0, end.normal_sum / np.maximum(cnt, 1), np.nan)
+    inside = np.where(cnt > 0, end.facing / np.maximum(cnt, 1), np.nan)
     return mean, inside
 
 
-def _fingers_blocked(dx, Y, Z, y_mid, z_tcp, opening, lim: ContactLimits, hand: HandModel):
-    """(K,) object points in the worse finger's way (its sweep along the approach); ``dx``
-    (N, K): the points' distances |X − x0| from the closing lines."""
-    tol = lim.tolerance_m
-    way = (dx <= hand.pad_half_width_m + tol) & (Z <= (z_tcp + hand.pad_half_length_m)[None, :])
-    inner = 0.5 * opening[None, :] - tol
-    outer = 0.5 * opening[None, :] + hand.finger_thickness_m
-    d = Y - y_mid[None, :]  # the upper finger's side; the lower's is −d (negation is exact)
-    upper = (way & (d >= inner) & (d <= outer)).sum(axis=0)
-    lower = (way & (d <= -inner) & (d >= -outer)).sum(axis=0)
-    return np.maximum(upper, lower).astype(np.int64, copy=False)
-
-
-def _project(points: np.ndarray, frames: Frames):
-    """(X, Y, Z) (N, K) float32: the points in every frame's (b, c, a) coordinates, computed
-    once per (approach, closing) pair (:mod:`~grasp_pipeline.motion.thin_matmul`) and spread to
-    its lines."""
-    pairs, first = np.unique(frames.pair, return_index=True)
-    axes = np.ascontiguousarray(np.concatenate([frames.b[first], frames.c[first], frames.a[first]]).T,
-                                dtype=np.float32)
-    proj = thin_matmul(points.astype(np.float32), axes)  # (N, 3 P)
-    col = np.searchsorted(pairs, frames.pair)
-    n = len(pairs)
-    return proj[:, col], proj[:, n + col], proj[:, 2 * n + col]
-
-
-def _normals_along_closing(normals: np.ndarray, frames: Frames) -> np.ndarray:
-    """(N, K) float32 n·c of the points' normals (N, 3) along every frame's closing axis: the
-    products of ``normals @ frames.c.T``, computed once per distinct closing axis (frames of
-    one pair share it) (:func:`~grasp_pipeline.motion.thin_matmul.thin_matmul`): the same
-    products, element by element."""
-    pairs, first, col = np.unique(frames.pair, return_index=True, return_inverse=True)
-    axes = frames.c[first]
-    if not np.array_equal(axes[col.reshape(-1)], frames.c):  # a pair with several closing axes
-        axes, col = frames.c, np.arange(len(frames))
-    prod = thin_matmul(np.asarray(normals, dtype=float), np.ascontiguousarray(axes.T, dtype=float))
-    # C order, as the product was: the sums over the points run in the same order
-    return np.take(prod.astype(np.float32), col.reshape(-1), axis=1)
+def _pads_centre(y_lo: np.ndarray, y_hi: np.ndarray, count: np.ndarray) -> np.ndarray:
+    """(K,) the middle of the material's span along Y (0 where there is no material)."""
+    some = count > 0
+    return np.where(some, 0.5 * (np.where(some, y_lo, 0.0) + np.where(some, y_hi, 0.0)), 0.0)
 
 
 def evaluate(frames: Frames, target: TargetModel, hand: HandModel, lim: ContactLimits,
              plane_n: np.ndarray, plane_c: float, depth_cap=None) -> Contacts:
     """The contact checks of every frame (module doc); ``depth_cap`` (K,): the TCP goes no
     deeper than this (a hand raised to clear a neighbour)."""
-    X, Y, Z = _project(target.points, frames)
-    x0 = frames.x0
-    dx = np.abs(X - x0[None, :])
-    strip = dx <= hand.pad_half_width_m
-    palm = dx <= hand.pad_half_width_m + 0.025
-    z_first, z_last = _masked_min(Z, strip), _masked_max(Z, strip)
-    z_palm = _masked_min(Z, palm) + hand.palm_above_tcp_m - lim.palm_clearance_m
-    z_tcp = np.minimum(0.5 * (z_first + z_last), z_palm)
+    passes = passes_for(target, frames, hand)
+    z_first, z_last, z_palm = passes.depth_bounds()
+    z_palm = z_palm + hand.palm_above_tcp_m - lim.palm_clearance_m
+    with np.errstate(invalid="ignore"):  # a strip without points: inf - inf, replaced below
+        z_tcp = np.minimum(0.5 * (z_first + z_last), z_palm)
     z_tcp = np.where(np.isfinite(z_tcp), z_tcp, 0.0)
-    _, y_lo, y_hi, n0 = _material(X, Y, Z, strip, z_tcp, hand)
-    y_mid = np.where(n0 > 0, 0.5 * (np.where(n0 > 0, y_lo, 0.0) + np.where(n0 > 0, y_hi, 0.0)), 0.0)
+    y_lo, y_hi, n0 = passes.material(z_tcp)
     opening = np.minimum(np.nan_to_num(y_hi - y_lo, posinf=0.0, neginf=0.0) + lim.open_margin_m,
                          lim.max_opening_m)
-    z_table = table_bound(frames, y_mid, opening, hand, plane_n, plane_c, lim.table_clearance_m)
+    z_table = table_bound(frames, _pads_centre(y_lo, y_hi, n0), opening, hand, plane_n, plane_c,
+                          lim.table_clearance_m)
     z_tcp = np.minimum(z_tcp, z_table)
     if depth_cap is not None:
         z_tcp = np.minimum(z_tcp, np.asarray(depth_cap, dtype=z_tcp.dtype))
-    mat, y_lo, y_hi, count = _material(X, Y, Z, strip, z_tcp, hand)
-    width = np.nan_to_num(y_hi - y_lo, posinf=0.0, neginf=0.0)
-    y_mid = np.where(count > 0, 0.5 * (np.where(count > 0, y_lo, 0.0) + np.where(count > 0, y_hi, 0.0)), 0.0)
-    width = np.maximum(width, lim.min_width_m)
+    y_lo, y_hi, count = passes.material(z_tcp)
+    width = np.maximum(np.nan_to_num(y_hi - y_lo, posinf=0.0, neginf=0.0), lim.min_width_m)
+    y_mid = _pads_centre(y_lo, y_hi, count)
     opening = np.minimum(width + lim.open_margin_m, lim.max_opening_m)
-    cov_hi, near_hi = _coverage(X, Y, mat, y_hi, 1.0, lim, hand)
-    cov_lo, near_lo = _coverage(X, Y, mat, y_lo, -1.0, lim, hand)
-    a_nc = np.abs(_normals_along_closing(target.normals, frames))
-    in_cone = a_nc >= float(np.cos(np.radians(lim.friction_cone_deg)))
-    (m_hi, f_hi), (m_lo, f_lo) = _antipodal(a_nc, in_cone, near_hi), _antipodal(a_nc, in_cone, near_lo)
-    ends, facing = np.stack([m_hi, m_lo]), np.stack([f_hi, f_lo])
-    known = np.isfinite(ends)
+    end_limits = EndLimits(lim.contact_depth_m, float(np.cos(np.radians(lim.friction_cone_deg))),
+                           hand.pad_half_width_m + lim.tolerance_m)
+    ends = passes.ends(end_limits, z_tcp, y_lo, y_hi, y_mid, 0.5 * opening - lim.tolerance_m,
+                       0.5 * opening + hand.finger_thickness_m)
+    cov = np.minimum(_coverage(ends.upper, hand), _coverage(ends.lower, hand))
+    (m_hi, f_hi), (m_lo, f_lo) = _antipodal(ends.upper), _antipodal(ends.lower)
+    sides, facing = np.stack([m_hi, m_lo]), np.stack([f_hi, f_lo])
+    known = np.isfinite(sides)
     outside_cone = np.any(known & (np.nan_to_num(facing) < lim.min_facing_fraction), axis=0)
-    anti = np.where(known.any(axis=0), np.where(known, ends, 0.0).sum(axis=0) / np.maximum(known.sum(axis=0), 1), 0.5)
-    blocked = _fingers_blocked(dx, Y, Z, y_mid, z_tcp, opening, lim, hand)
+    anti = np.where(known.any(axis=0), np.where(known, sides, 0.0).sum(axis=0) / np.maximum(known.sum(axis=0), 1), 0.5)
+    blocked = np.maximum(ends.blocked_upper, ends.blocked_lower)
     pad_lo, pad_hi = z_tcp - hand.pad_half_length_m, z_tcp + hand.pad_half_length_m
     overlap = np.clip((np.minimum(pad_hi, z_last) - np.maximum(pad_lo, z_first))
                       / (2.0 * hand.pad_half_length_m), 0.0, 1.0)
@@ -245,11 +181,11 @@ def evaluate(frames: Frames, target: TargetModel, hand: HandModel, lim: ContactL
     code = np.full(len(frames), OK)
     code[blocked > lim.blocked_points] = FINGER_BLOCKED
     code[outside_cone] = OUTSIDE_CONE
-    code[np.minimum(cov_hi, cov_lo) < lim.min_contact_fraction] = EDGE_CONTACT
+    code[cov < lim.min_contact_fraction] = EDGE_CONTACT
     code[width > lim.max_width_m] = TOO_WIDE
     code[count < lim.min_material_points] = NO_MATERIAL
     code[z_table < z_first - hand.pad_half_length_m] = TABLE
     code[z_tcp + hand.pad_half_length_m < z_first + lim.min_pad_overlap_m] = NO_MATERIAL
     c = target.centroid
-    return Contacts(code, z_tcp, y_mid, width, opening, np.minimum(cov_hi, cov_lo), anti, overlap,
-                    np.abs(frames.b @ c - x0), np.abs(frames.a @ c - z_tcp))
+    return Contacts(code, z_tcp, y_mid, width, opening, cov, anti, overlap,
+                    np.abs(frames.b @ c - frames.x0), np.abs(frames.a @ c - z_tcp))
