@@ -82,19 +82,37 @@ int bit_length(std::uint64_t x) {
   return b;
 }
 
-/// (key << bits) | position of the first point of each distinct key, in the points' order:
-/// a bit per possible key marks those already met (n_keys bits, at most 64 per point).
-std::vector<std::uint64_t> first_of_each_key(const std::vector<std::int64_t>& key, std::size_t n_keys,
-                                             int bits) {
+/// The number of set bits of `x` (portable: the baseline x86-64 has no popcount instruction).
+inline std::uint64_t bits_set(std::uint64_t x) {
+  x = x - ((x >> 1) & 0x5555555555555555ULL);
+  x = (x & 0x3333333333333333ULL) + ((x >> 2) & 0x3333333333333333ULL);
+  x = (x + (x >> 4)) & 0x0F0F0F0F0F0F0F0FULL;
+  return (x * 0x0101010101010101ULL) >> 56;
+}
+
+/// The position of the first point of each distinct key, in increasing key order, without a
+/// sort: a bit per possible key (n_keys bits, at most 64 per point) marks those already met,
+/// and once all are marked, a key's rank among them (the bits set below its own) is its place
+/// in the output.
+std::vector<std::int64_t> first_of_each_key(const std::vector<std::int64_t>& key, std::size_t n_keys) {
   std::vector<std::uint64_t> seen((n_keys + 63) / 64, 0);
-  std::vector<std::uint64_t> first;
+  std::vector<std::size_t> first_at;  // positions of the first points, in the points' order
   for (std::size_t i = 0; i < key.size(); ++i) {
     const auto k = static_cast<std::uint64_t>(key[i]);
     std::uint64_t& word = seen[k >> 6];
     const std::uint64_t bit = std::uint64_t{1} << (k & 63);
     if (word & bit) continue;
     word |= bit;
-    first.push_back((k << bits) | i);
+    first_at.push_back(i);
+  }
+  std::vector<std::uint64_t> below(seen.size());  // keys met in the words before
+  std::uint64_t total = 0;
+  for (std::size_t w = 0; w < seen.size(); ++w) below[w] = total, total += bits_set(seen[w]);
+  std::vector<std::int64_t> first(first_at.size());
+  for (std::size_t i : first_at) {
+    const auto k = static_cast<std::uint64_t>(key[i]);
+    const std::uint64_t lower = seen[k >> 6] & ((std::uint64_t{1} << (k & 63)) - 1);
+    first[below[k >> 6] + bits_set(lower)] = static_cast<std::int64_t>(i);
   }
   return first;
 }
@@ -116,14 +134,10 @@ std::vector<std::int64_t> first_per_voxel(std::size_t n, const double* points,
       if (i == 0 || kp[i].first != kp[i - 1].first) first.push_back(kp[i].second);
     return first;
   }
-  std::vector<std::uint64_t> packed;
-  if (n_keys <= 64.0L * static_cast<long double>(n)) {
-    // few possible keys: sort only the first point of each (already in the points' order)
-    packed = first_of_each_key(key, static_cast<std::size_t>(n_keys), bits);
-  } else {
-    packed.resize(n);
-    for (std::size_t i = 0; i < n; ++i) packed[i] = (static_cast<std::uint64_t>(key[i]) << bits) | i;
-  }
+  if (n_keys <= 64.0L * static_cast<long double>(n))  // few possible keys: no sort
+    return first_of_each_key(key, static_cast<std::size_t>(n_keys));
+  std::vector<std::uint64_t> packed(n);
+  for (std::size_t i = 0; i < n; ++i) packed[i] = (static_cast<std::uint64_t>(key[i]) << bits) | i;
   std::uint64_t top = 0;
   for (std::uint64_t x : packed) top = std::max(top, x);
   // the positions are already in order and the sort is stable: only the key's bits are sorted

@@ -1,8 +1,9 @@
 // Thinning of a labelled cloud to one point per (voxel, owner) pair: the first point of each
 // pair, pairs in increasing key order — what numpy's
 // `np.unique(key, return_index=True)[1]` gives over the key below, index for index, computed
-// with a radix sort instead of a comparison sort (of the first point of each key only, when
-// the cloud's box holds few possible keys: at most 64 per point).
+// with a radix sort instead of a comparison sort, or with no sort when the cloud's box holds
+// few possible keys (at most 64 per point): a bit per key marks those met, and a key's rank
+// among them places its first point.
 #pragma once
 
 #include <cstddef>
