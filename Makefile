@@ -17,8 +17,13 @@ JOBS ?= 2
 # pytest processes (pytest-xdist): one per core, at most 4 (each holds the simulator, torch, ...)
 TEST_WORKERS ?= $(shell n=$$(nproc 2>/dev/null || echo 1); echo $$(( n < 4 ? n : 4 )))
 
-APT_PACKAGES := build-essential cmake python3-dev python3-venv libpcl-dev libeigen3-dev \
+APT_PACKAGES := build-essential cmake ccache python3-dev python3-venv libpcl-dev libeigen3-dev \
 	libgtest-dev libegl1 libegl-mesa0 libgl1-mesa-dri libosmesa6
+
+# The module's build (pip) and the test binary's build compile the same core sources with the
+# same flags: ccache, when the machine has it, launches the compiler of both, so the second
+# build takes the first one's objects. Read when a recipe runs (system-deps may install it).
+LAUNCHER = CMAKE_CXX_COMPILER_LAUNCHER="$$(command -v ccache || true)"
 
 SOURCES := $(shell find cpp python sim config -type f -not -name '*.pyc' 2>/dev/null) \
 	CMakeLists.txt pyproject.toml
@@ -46,7 +51,7 @@ $(VENV)/bin/python:
 
 $(VENV)/.installed: $(VENV)/bin/python $(SOURCES)
 	@rm -f python/grasp_pipeline/_*.so  # a dev build (scripts/dev_build_core.sh) must not ship
-	$(PIP) install -q ".[test,meshes,ray,rerun,learning]" $(QUIET_PIP)
+	$(LAUNCHER) $(PIP) install -q ".[test,meshes,ray,rerun,learning]" $(QUIET_PIP)
 	@touch $@
 
 # LeRobot for `record`, `train`, `eval` and their tests (the 'dataset' extra, lean): torch/torchvision
@@ -61,7 +66,7 @@ $(VENV)/.dataset: $(VENV)/bin/python requirements/dataset-ci.txt
 	@touch $@
 
 gtest: system-deps
-	cmake -S . -B $(GTEST_BUILD) -DGRASP_BUILD_PYTHON=OFF -DGRASP_BUILD_TESTS=ON -DCMAKE_BUILD_TYPE=Release >/dev/null
+	$(LAUNCHER) cmake -S . -B $(GTEST_BUILD) -DGRASP_BUILD_PYTHON=OFF -DGRASP_BUILD_TESTS=ON -DCMAKE_BUILD_TYPE=Release >/dev/null
 	cmake --build $(GTEST_BUILD) -j $(JOBS)
 	$(GTEST_BUILD)/grasp_core_tests --gtest_brief=1
 
