@@ -22,8 +22,9 @@ APT_PACKAGES := build-essential cmake ccache python3-dev python3-venv libpcl-dev
 
 # The module's build (pip) and the test binary's build compile the same core sources with the
 # same flags: ccache, when the machine has it, launches the compiler of both, so the second
-# build takes the first one's objects. Read when a recipe runs (system-deps may install it).
-LAUNCHER = CMAKE_CXX_COMPILER_LAUNCHER="$$(command -v ccache || true)"
+# build takes the first one's objects (read when a recipe runs: system-deps may install it).
+# Both name the same compiler (your CXX, else c++; pip's build would otherwise take Python's).
+BUILD_ENV = CXX="$${CXX:-c++}" CMAKE_CXX_COMPILER_LAUNCHER="$$(command -v ccache || true)"
 
 SOURCES := $(shell find cpp python sim config -type f -not -name '*.pyc' 2>/dev/null) \
 	CMakeLists.txt pyproject.toml
@@ -51,7 +52,7 @@ $(VENV)/bin/python:
 
 $(VENV)/.installed: $(VENV)/bin/python $(SOURCES)
 	@rm -f python/grasp_pipeline/_*.so  # a dev build (scripts/dev_build_core.sh) must not ship
-	$(LAUNCHER) $(PIP) install -q ".[test,meshes,ray,rerun,learning]" $(QUIET_PIP)
+	$(BUILD_ENV) $(PIP) install -q ".[test,meshes,ray,rerun,learning]" $(QUIET_PIP)
 	@touch $@
 
 # LeRobot for `record`, `train`, `eval` and their tests (the 'dataset' extra, lean): torch/torchvision
@@ -66,7 +67,7 @@ $(VENV)/.dataset: $(VENV)/bin/python requirements/dataset-ci.txt
 	@touch $@
 
 gtest: system-deps
-	$(LAUNCHER) cmake -S . -B $(GTEST_BUILD) -DGRASP_BUILD_PYTHON=OFF -DGRASP_BUILD_TESTS=ON -DCMAKE_BUILD_TYPE=Release >/dev/null
+	$(BUILD_ENV) cmake -S . -B $(GTEST_BUILD) -DGRASP_BUILD_PYTHON=OFF -DGRASP_BUILD_TESTS=ON -DCMAKE_BUILD_TYPE=Release >/dev/null
 	cmake --build $(GTEST_BUILD) -j $(JOBS)
 	$(GTEST_BUILD)/grasp_core_tests --gtest_brief=1
 
