@@ -28,7 +28,7 @@ Without points of the object in the cloud the method.md §2.6 verdict stands.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Optional
+from typing import Callable, Optional
 
 import numpy as np
 
@@ -129,17 +129,20 @@ def judge_graspable(track, cloud: Optional[SceneCloud], config: GraspFitConfig) 
 WIDTH_NOTE_PREFIX = "width not graspable"
 
 
-def judge_any_side(track, cloud: Optional[SceneCloud], config: GraspFitConfig) -> tuple[bool, list[str]]:
+def judge_any_side(track, scene_cloud: Callable[[], Optional[SceneCloud]],
+                   config: GraspFitConfig) -> tuple[bool, list[str]]:
     """(graspable, notes) for a grasp source that may approach from any side: method.md §2.6's
     guards without the width guard (whether the hand fits the object from some side is the
-    source's question), with the support rule where the cloud allows."""
+    source's question), with the support rule where the cloud allows. ``scene_cloud()`` gives
+    the latest scene cloud (None: none); it is asked for only when the support rule judges (a
+    pass over the whole frame: a resting or too-low track is settled without it)."""
     e = track.smoothed
     notes = [n for n in e.notes if not n.startswith(WIDTH_NOTE_PREFIX)]
     if not e.height_ok:
         return False, notes
     if e.resting:
         return True, []
-    return _by_support(track, cloud, config, notes)
+    return _by_support(track, scene_cloud(), config, notes)
 
 
 def _by_support(track, cloud: Optional[SceneCloud], config: GraspFitConfig,

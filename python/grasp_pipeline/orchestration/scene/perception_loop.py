@@ -175,11 +175,9 @@ class PerceptionLoop:
         latest scene cloud (:func:`~.support.judge_graspable`); without the width guard when
         :attr:`width_guard` is off (a grasp source that approaches from any side decides
         whether the hand fits, :func:`~.support.judge_any_side`)."""
-        e = track.smoothed
         if not self.width_guard:
-            # the support rule (and so the scene cloud) only for a track not settled without it
-            needs_cloud = e.height_ok and not e.resting
-            return judge_any_side(track, self.scene_cloud() if needs_cloud else None, self.fit_config)
+            return judge_any_side(track, self.scene_cloud, self.fit_config)
+        e = track.smoothed
         if e.grasp_ok or e.resting or not (e.height_ok and e.width_ok):
             return bool(e.grasp_ok), list(e.notes)
         return judge_graspable(track, self.scene_cloud(), self.fit_config)
