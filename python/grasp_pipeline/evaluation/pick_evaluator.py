@@ -107,12 +107,13 @@ class PickEvaluator:
     def _follow(self, name: Optional[str], z0: float) -> None:
         self.name, self.z0, self.samples = name, z0, []
         self._body = None if name is None else object_body_id(self.world, name)
+        self._xpos = self.world.data.xpos  # (the bodies' positions, read at every tick)
 
     def on_tick(self, ev: Tick) -> None:
         """Sample the followed object's height (every tick: read straight from the body)."""
         if self.name is None or self._body is None:
             return
-        z = float(self.world.data.xpos[self._body][2])
+        z = float(self._xpos[self._body, 2])
         self.z0 = z if math.isnan(self.z0) else self.z0
         self.samples.append((float(ev.time_s), z))
 

@@ -40,6 +40,10 @@ class Task:
     done: bool = False
     result: Any = None
     error: Optional[BaseException] = None
+    activity: str = field(init=False, repr=False)  # what an interrupt's message says it cut
+
+    def __post_init__(self) -> None:
+        self.activity = f"task {self.name} ran"
 
 
 @dataclass
@@ -57,26 +61,29 @@ class Runtime:
         return task
 
     def step(self) -> None:
-        t_before = self.world.time_s
-        for task in list(self.tasks):
+        world = self.world
+        t_before = world.time_s
+        for task in tuple(self.tasks):
             mark = signals.received()
             try:
                 next(task.gen)
                 # an interrupt the task swallowed (a library's ``except BaseException``) is raised
-                signals.raise_if_received_since(mark, f"task {task.name} ran")
+                signals.raise_if_received_since(mark, task.activity)
             except StopIteration as stop:
                 task.done, task.result = True, stop.value
             except Exception as exc:  # a task failure must not kill the runtime
                 # Ctrl-C inside a C extension's import can come out as ImportError: still Ctrl-C
-                signals.raise_if_received_since(mark, f"task {task.name} ran")
+                signals.raise_if_received_since(mark, task.activity)
                 log.exception("task %s failed", task.name)
                 task.done, task.error = True, exc
             if task.done:
                 self.tasks.remove(task)
-        if self.world.time_s == t_before:
-            self.world.step(1)
+        t_now = world.time_s
+        if t_now == t_before:
+            world.step(1)
+            t_now = world.time_s
         if self.events.wants(Tick):
-            self.events.publish(Tick(float(self.world.time_s)))
+            self.events.publish(Tick(float(t_now)))
 
     @contextmanager
     def looking(self) -> Iterator[None]:

@@ -151,6 +151,11 @@ class SimWorld:
         self._grip_speed_mps = self.config.gripper_speed_mps
         self._noslip_base = self.config.noslip_iterations
         self._noslip_hold = self.config.noslip_hold_iterations
+        # read and written at every physics step, so made once (MuJoCo's accessors build a new
+        # wrapper at each access): the solver options and the controls
+        self._opt = m.opt
+        self._noslip_now = int(self._opt.noslip_iterations)
+        self._ctrl = self.data.ctrl
         self._set_grip_effort(self.config.gripper_default_effort_N)
         self._apply_controls()
         mujoco.mj_forward(m, self.data)
@@ -343,12 +348,12 @@ class SimWorld:
     def _apply_controls(self) -> None:
         if self._noslip_hold != self._noslip_base:
             self._apply_noslip()
-        self.data.ctrl[self._act_idx] = self._ref.command(self.data.time)
+        self._ctrl[self._act_idx] = self._ref.command(self.data.time)
         if self._grip_cmd_m != self._grip_target_m:
-            step = self._grip_speed_mps * self.model.opt.timestep
+            step = self._grip_speed_mps * self._opt.timestep
             diff = self._grip_target_m - self._grip_cmd_m
             self._grip_cmd_m = self._grip_target_m if abs(diff) <= step else self._grip_cmd_m + math.copysign(step, diff)
-        self.data.ctrl[self._grip_act] = self._grip_cmd_m
+        self._ctrl[self._grip_act] = self._grip_cmd_m
 
     def _apply_noslip(self) -> None:
         """``noslip_hold_iterations`` no-slip passes while the hand holds an object by force
@@ -356,7 +361,9 @@ class SimWorld:
         MuJoCo's soft contacts let a squeezed object creep between the pads under its weight;
         the passes make the pads' friction hold as Coulomb friction does."""
         holding = self._grip_target_m == 0.0 and self.finger_gap_m > _HOLDING_MIN_GAP_M
-        self.model.opt.noslip_iterations = self._noslip_hold if holding else self._noslip_base
+        passes = self._noslip_hold if holding else self._noslip_base
+        if passes != self._noslip_now:
+            self._opt.noslip_iterations = self._noslip_now = passes
 
     def step(self, n: int = 1) -> None:
         """Advance the physics by ``n`` steps, updating the controls before each.
