@@ -86,6 +86,7 @@ class PickEvaluator:
         self.z0 = math.nan
         self.samples: list = []
         self._body: Optional[int] = None  # MuJoCo body id of the followed object
+        self._xpos = None  # the bodies' positions (MuJoCo's view, read at every tick while following)
         self._start_z: dict = {}  # every object's height when the pick started
 
     def attach(self, events: EventBus) -> "PickEvaluator":
@@ -107,7 +108,7 @@ class PickEvaluator:
     def _follow(self, name: Optional[str], z0: float) -> None:
         self.name, self.z0, self.samples = name, z0, []
         self._body = None if name is None else object_body_id(self.world, name)
-        self._xpos = self.world.data.xpos  # (the bodies' positions, read at every tick)
+        self._xpos = self.world.data.xpos
 
     def on_tick(self, ev: Tick) -> None:
         """Sample the followed object's height (every tick: read straight from the body)."""
