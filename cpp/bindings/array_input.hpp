@@ -36,6 +36,13 @@ inline std::string describe(const py::handle& obj) {
   return py::str(py::type::of(obj).attr("__name__")).cast<std::string>();
 }
 
+/// True when `arr`'s dtype is T's by numpy's equivalence: an array that crossed a pickle (a
+/// process pool, Ray) carries an equal dtype that is not numpy's shared dtype object.
+template <typename T>
+inline bool has_dtype(const py::array& arr) {
+  return py::isinstance<py::array_t<T>>(arr);
+}
+
 /// `obj` as a C-ordered array of dtype T and the given shape (-1: any size), else an error
 /// that names the argument and the fix.
 template <typename T>
@@ -46,7 +53,7 @@ inline py::array checked(const py::object& obj, const char* name, std::initializ
     throw py::type_error(std::string(name) + ": expected a numpy array of dtype " + want + ", got " +
                          describe(obj));
   py::array arr = py::reinterpret_borrow<py::array>(obj);
-  if (!py::isinstance<py::array_t<T>>(arr))  // numpy's equivalence, not the dtype object's identity
+  if (!has_dtype<T>(arr))
     throw py::type_error(std::string(name) + ": expected dtype " + want + ", got " +
                          py::str(arr.dtype()).cast<std::string>() + " (convert with .astype)");
   bool ok = arr.ndim() == static_cast<py::ssize_t>(shape.size());
@@ -78,8 +85,8 @@ inline py::array checked_array(const py::object& obj, const char* name, bool all
     throw py::type_error(os.str());
   }
   py::array arr = py::reinterpret_borrow<py::array>(obj);
-  const bool f32 = arr.dtype().is(py::dtype::of<float>());
-  const bool f64 = arr.dtype().is(py::dtype::of<double>());
+  const bool f32 = has_dtype<float>(arr);
+  const bool f64 = has_dtype<double>(arr);
   if (!f32 && !f64) {
     std::ostringstream os;
     os << name << ": expected dtype float32 or float64, got "
@@ -107,7 +114,7 @@ inline py::array checked_array(const py::object& obj, const char* name, bool all
 inline PointsView points_view(const py::object& obj, const char* name, bool allow_empty = false) {
   py::array arr = checked_array(obj, name, allow_empty);
   PointsView v;
-  v.is_float = arr.dtype().is(py::dtype::of<float>());
+  v.is_float = has_dtype<float>(arr);
   const py::ssize_t item = arr.itemsize();
   const bool rows_ok = arr.shape(0) <= 1 || (arr.strides(0) > 0 && arr.strides(0) % item == 0);
   if (arr.strides(1) != item || !rows_ok) {
@@ -221,7 +228,7 @@ inline py::array rgb_view(const py::object& obj, std::size_t rows) {
     throw py::type_error("rgb: expected None or a numpy uint8 array of shape (H, W, 3), got " +
                          describe(obj));
   py::array arr = py::reinterpret_borrow<py::array>(obj);
-  if (!arr.dtype().is(py::dtype::of<std::uint8_t>()))
+  if (!has_dtype<std::uint8_t>(arr))
     throw py::type_error("rgb: expected dtype uint8, got " + py::str(arr.dtype()).cast<std::string>() +
                          " (convert with .astype(numpy.uint8))");
   const bool shape_ok = (arr.ndim() == 3 && arr.shape(2) == 3) || (arr.ndim() == 2 && arr.shape(1) == 3);

@@ -41,8 +41,8 @@ DepthView depth_view(const py::object& obj) {
     throw py::type_error("depth: expected a numpy array of shape (H, W) with dtype float32, got " +
                          describe(obj) + " (convert with numpy.asarray(depth, dtype=numpy.float32))");
   py::array arr = py::reinterpret_borrow<py::array>(obj);
-  const bool f32 = arr.dtype().is(py::dtype::of<float>());
-  if (!f32 && !arr.dtype().is(py::dtype::of<double>()))
+  const bool f32 = has_dtype<float>(arr);
+  if (!f32 && !has_dtype<double>(arr))
     throw py::type_error("depth: expected dtype float32 (or float64), got " +
                          py::str(arr.dtype()).cast<std::string>() + " (convert with .astype(numpy.float32))");
   if (arr.ndim() != 2 || arr.shape(0) == 0 || arr.shape(1) == 0) {

@@ -89,6 +89,25 @@ def test_float32_float64_and_strided_inputs_agree():
     assert np.array_equal(res64.labels >= 0, ref.labels >= 0)
 
 
+def test_arrays_that_crossed_a_pickle_are_accepted():
+    """A process pool or Ray hands over arrays through pickle: their dtype is equal to numpy's
+    float32/uint8 but not the same object; every entry point reads them as the originals."""
+    import pickle
+
+    pts = np.vstack([table_cloud(), cube_cloud((0.55, 0.0))]).astype(np.float32)
+    moved = pickle.loads(pickle.dumps(pts))
+    assert moved.dtype == np.float32 and moved.dtype is not np.dtype(np.float32)
+    ref = _core.SceneFilter(_core.SceneFilterParams()).process(pts)
+    res = _core.SceneFilter(_core.SceneFilterParams()).process(moved)
+    assert np.array_equal(res.labels, ref.labels)
+    rgb = np.zeros((len(pts), 3), dtype=np.uint8)
+    args = (np.array([0.55, 0.0, 0.8]), 0.0, 0)
+    a = _core.Perception(_core.SceneFilterParams(), _core.ObbParams()).process(pts, *args, rgb)
+    b = _core.Perception(_core.SceneFilterParams(), _core.ObbParams()).process(
+        moved, *args, pickle.loads(pickle.dumps(rgb)))
+    assert np.array_equal(a.filter.labels, b.filter.labels) and a.tids == b.tids and a.tids
+
+
 def test_labels_are_a_read_only_view_that_outlives_nothing():
     res = _core.SceneFilter(_core.SceneFilterParams()).process(table_cloud().astype(np.float32))
     labels = res.labels
