@@ -4,6 +4,8 @@ Nothing a user passes may crash the interpreter: wrong shapes and dtypes raise
 TypeError/ValueError naming the argument; NaN/Inf rows are dropped and counted.
 """
 
+import pickle
+
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -92,8 +94,6 @@ def test_float32_float64_and_strided_inputs_agree():
 def test_arrays_that_crossed_a_pickle_are_accepted():
     """A process pool or Ray hands over arrays through pickle: their dtype is equal to numpy's
     float32/uint8 but not the same object; every entry point reads them as the originals."""
-    import pickle
-
     pts = np.vstack([table_cloud(), cube_cloud((0.55, 0.0))]).astype(np.float32)
     moved = pickle.loads(pickle.dumps(pts))
     assert moved.dtype == np.float32 and moved.dtype is not np.dtype(np.float32)

@@ -1,5 +1,6 @@
 """The scene volume wrapper (perception/scene_volume.py) on synthetic depth images."""
 
+import pickle
 from types import SimpleNamespace
 
 import numpy as np
@@ -35,6 +36,18 @@ def test_a_top_view_carves_above_and_beside_and_leaves_the_inside_unknown():
     assert states.tolist() == [FREE, OCCUPIED, UNKNOWN, FREE, OCCUPIED, UNKNOWN, OUTSIDE]
     tops = vol.occupied_centres((0.44, -0.06, 0.21), (0.56, 0.06, 0.35))
     assert len(tops) > 0 and np.all(tops[:, 2] > 0.28)
+
+
+def test_a_depth_image_that_crossed_a_pickle_integrates_as_the_original():
+    frame = _frame(TOP_VIEW)
+    depth = frame.depth.astype(np.float32)
+    moved = pickle.loads(pickle.dumps(depth))  # as a process pool or Ray hands it over
+    assert moved.dtype is not np.dtype(np.float32)
+    a, b = SceneVolume(), SceneVolume()
+    out_a = a.integrate(depth, frame.K, frame.T_world_camera)
+    out_b = b.integrate(moved, frame.K, frame.T_world_camera)
+    assert (out_a.voxels_free, out_a.voxels_occupied) == (out_b.voxels_free, out_b.voxels_occupied)
+    assert out_a.voxels_occupied > 0
 
 
 def _args(frame):
