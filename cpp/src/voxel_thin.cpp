@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -29,7 +30,7 @@ inline std::int64_t floor_to_int(double q) {
 /// The (voxel, owner) key of every point and the exact number of keys (saturated at 2^100).
 std::vector<std::int64_t> voxel_keys(std::size_t n, const double* points, const std::int64_t* owner,
                                      double voxel_m, long double* n_keys) {
-  std::vector<std::int64_t> cell(3 * n);
+  const std::unique_ptr<std::int64_t[]> cell(new std::int64_t[3 * n]);  // every entry written below
   std::array<std::int64_t, 3> lo{}, hi{};
   lo.fill(std::numeric_limits<std::int64_t>::max());
   hi.fill(std::numeric_limits<std::int64_t>::min());
@@ -154,10 +155,10 @@ namespace {
 template <typename F>
 ThinnedRows thin_rows(std::size_t n, const F* xyz, std::size_t row_stride, const std::int32_t* labels,
                       const RowOwners& owners, double voxel_m) {
-  std::vector<double> points;
-  std::vector<std::int64_t> owner;
-  points.reserve(3 * n);
-  owner.reserve(n);
+  // the kept rows, written in place (room for all rows, left uninitialised: no per-row growth)
+  const std::unique_ptr<double[]> points(new double[3 * n]);
+  const std::unique_ptr<std::int64_t[]> owner(new std::int64_t[n]);
+  std::size_t kept = 0;
   const std::size_t n_groups = owners.of_label.size();
   for (std::size_t i = 0; i < n; ++i) {
     const std::int32_t label = labels[i];
@@ -171,10 +172,11 @@ ThinnedRows thin_rows(std::size_t n, const F* xyz, std::size_t row_stride, const
     const F* p = xyz + i * row_stride;
     const double x = p[0], y = p[1], z = p[2];
     if (!(std::isfinite(x) && std::isfinite(y) && std::isfinite(z))) continue;
-    points.insert(points.end(), {x, y, z});
-    owner.push_back(who);
+    double* q = &points[3 * kept];
+    q[0] = x, q[1] = y, q[2] = z;
+    owner[kept++] = who;
   }
-  const std::vector<std::int64_t> first = first_per_voxel(owner.size(), points.data(), owner.data(), voxel_m);
+  const std::vector<std::int64_t> first = first_per_voxel(kept, points.get(), owner.get(), voxel_m);
   ThinnedRows out;
   out.points.resize(3 * first.size());
   out.owner.resize(first.size());
