@@ -23,6 +23,7 @@ import numpy as np
 
 from .config import MotionConfig
 from .exceptions import TimeParameterizationError
+from .toppra_import import import_toppra
 from .trajectory import JointPath, JointTrajectory
 
 log = logging.getLogger(__name__)
@@ -78,8 +79,8 @@ class TrajectoryTimer:
 
         ``waypoint_step_rad``: densification step before the spline fit (default from the
         config); smaller keeps the spline closer to the polyline at corners."""
-        import toppra
-        import toppra.algorithm as algo
+        toppra = import_toppra()
+        algo = toppra.algorithm
 
         jp = path if isinstance(path, JointPath) else None
         wp = np.asarray(path.waypoints if jp is not None else path, dtype=float)
@@ -134,7 +135,7 @@ class TrajectoryTimer:
         """TOPP-RA's joint velocity and acceleration constraints of the scaled limits (made
         once per pair of limits: they hold no state of a path, and building them costs more
         than a short path's timing)."""
-        import toppra.constraint as constraint
+        constraint = import_toppra().constraint
 
         key = (self.qd_limit.tobytes(), self.qdd_limit.tobytes())
         cached = self._constraints_cache
