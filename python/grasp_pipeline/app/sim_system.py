@@ -6,6 +6,7 @@ the ground truth that scores a run (:meth:`System.attach_evaluation`, ``score_tr
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -66,7 +67,10 @@ def make_scene(scene, seed: int, settings: Settings, objects="builtin"):
         from ..sim.clutter_scenes import packed_scene, pile_scene
 
         build = packed_scene if scene == "packed" else pile_scene
-        models = object_set(objects) if isinstance(objects, (str, Path)) else list(objects)
+        if isinstance(objects, (str, Path)):
+            models = object_set(objects)
+        else:  # a sequence as it is (a built-in set builds only what the scene draws)
+            models = objects if isinstance(objects, Sequence) else list(objects)
         return build(models, seed, settings.clutter, settings.sim)
     raise InputError(f"scene must be one of {', '.join(SCENES)}, got {scene!r}")
 

@@ -6,7 +6,8 @@ files; a single OBJ/STL/URDF file is a set of one.
 
 A process loads each set once: later calls return copies of the loaded models (a benchmark
 worker runs many rounds of the same set; loading a folder of meshes costs seconds, a copy a
-few milliseconds). A folder is loaded again when any of its files changed (name, size or
+few milliseconds). The built-in set builds an object when a scene first takes it, once per
+process (:mod:`.builtin_set`). A folder is loaded again when any of its files changed (name, size or
 modification time).
 """
 
@@ -16,8 +17,9 @@ import copy
 import logging
 import os
 from pathlib import Path
-from typing import Iterable
+from typing import Iterable, Sequence
 
+from .builtin_set import BuiltinSet
 from .model import MeshError, ObjectModel
 
 log = logging.getLogger(__name__)
@@ -25,16 +27,20 @@ log = logging.getLogger(__name__)
 BUILTIN = "builtin"
 
 
-def object_set(source: str | Path) -> list[ObjectModel]:
+def object_set(source: str | Path) -> Sequence[ObjectModel]:
     """The objects of ``source`` (see the module doc), each call its own copies (callers may
-    modify them); MeshError when there are none."""
+    modify them); MeshError when there are none. The built-in set is a
+    :class:`~.builtin_set.BuiltinSet` (an object is built when first indexed), a loaded one a
+    list."""
+    if str(source) == BUILTIN:
+        return BuiltinSet()
     key = _set_key(source)
     models = _LOADED.get(key)
     if models is None:
         models = _load(source)
         _LOADED.clear()  # one set kept: a process runs one set at a time
         _LOADED[key] = models
-    elif str(source) != BUILTIN:
+    else:
         log_notes(models, str(source))
     return copy.deepcopy(models)
 
@@ -44,10 +50,8 @@ _LOADED: dict[tuple, list[ObjectModel]] = {}
 
 
 def _set_key(source: str | Path) -> tuple:
-    """What identifies a set's content: ``builtin``, or the path and every file under it
-    with its size and modification time (a missing path: its name only, loaded to fail)."""
-    if str(source) == BUILTIN:
-        return (BUILTIN,)
+    """What identifies a loaded set's content: the path and every file under it with its
+    size and modification time (a missing path: its name only, loaded to fail)."""
     path = Path(source).resolve()
     if not path.exists():
         return (str(path), None)
@@ -64,10 +68,6 @@ def _set_key(source: str | Path) -> tuple:
 
 
 def _load(source: str | Path) -> list[ObjectModel]:
-    if str(source) == BUILTIN:
-        from .builtin import builtin_objects
-
-        return builtin_objects()
     path = Path(source)
     if not path.exists():
         raise MeshError(f"object set {path}: no such file or folder (or use 'builtin')")
