@@ -1,8 +1,8 @@
 """TOPP-RA imported without loading matplotlib's pyplot.
 
 ``toppra`` imports ``matplotlib.pyplot`` when it is imported, for plotting helpers that the
-timing here never calls; in a process that times paths that import is about a third of all
-its imports' CPU (half a second, for a simulated round of 10-20 s). :func:`import_toppra`
+timing here never calls; in a process that times paths that import is about a quarter of all
+its imports' CPU (0.4 s, for a simulated round of 10-20 s). :func:`import_toppra`
 imports toppra with a stand-in for pyplot that imports the real one the first time anything
 on it is used (a toppra plot still works), and takes the stand-in back out of
 ``sys.modules`` straight after, so that any later ``import matplotlib.pyplot`` gets the real
