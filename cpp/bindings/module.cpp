@@ -19,6 +19,7 @@ void bind_depth_image(py::module_& m);
 void bind_cloud_passes(py::module_& m);
 void bind_distance_transform(py::module_& m);
 void bind_pad_contacts(py::module_& m);
+void bind_tray_spots(py::module_& m);
 }  // namespace grasp_bind
 
 PYBIND11_MODULE(_core, m) {
@@ -36,4 +37,5 @@ PYBIND11_MODULE(_core, m) {
   grasp_bind::bind_cloud_passes(m);
   grasp_bind::bind_distance_transform(m);
   grasp_bind::bind_pad_contacts(m);
+  grasp_bind::bind_tray_spots(m);
 }

@@ -31,6 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ... import _core
 from ...exceptions import GraspPipelineError
 from .place_config import PlaceConfig
 from .tray import TrayContents
@@ -91,111 +92,34 @@ def preferred_positions(geometry, k: int, inset_m: float) -> list:
     return out
 
 
-def _stamp(shape: HeldShape, R: np.ndarray, axes: np.ndarray, cell_m: float, cfg: PlaceConfig):
-    """The cells around the TCP's cell (offsets in the tray grid's axes ``axes``) a spot with
-    the TCP rotation ``R`` needs: ``obj`` (K, 2) under the object's spheres (grown by the
-    spacing); ``under`` (J, 2) under its points (what it will stand on); ``hand`` (L, 2) with
-    ``limits`` (L,): the highest content allowed there with the object on the floor [m]."""
+def _spot_cells(grid, contents_h: np.ndarray, heights: np.ndarray, inside: np.ndarray,
+                shape: HeldShape, R: np.ndarray, axes: np.ndarray, cfg: PlaceConfig,
+                rim_m: float) -> tuple[np.ndarray, np.ndarray]:
+    """(ok, support), each (nu, nv), for the TCP over each cell's centre with the TCP rotation
+    ``R``: whether the object lies inside the walls, rests on the highest thing under its
+    spheres (nothing beside it stands higher than what it stands on, give or take
+    ``seen_min_height_m``) and the hand clears the walls and contents with the object on it; the
+    height of what it stands on (0: the floor).
+
+    The cells come from the object's spheres (grown by ``spot_spacing_m``), the cells under its
+    points and the hand's spheres with, per sphere, the highest content allowed under it with
+    the object on the floor; the per-cell maxima over them run in the C++ core
+    (``_core.tray_spot_cells``)."""
     R = np.asarray(R, float)
     s = cfg.spot_spacing_m
-    obj = _cells_near((shape.object_centres @ R.T)[:, :2] @ axes, shape.object_radii, s, cell_m)
-    under = np.unique(np.floor((shape.points_tcp @ R.T)[:, :2] @ axes / cell_m + 0.5).astype(int), axis=0)
+    object_xy = (shape.object_centres @ R.T)[:, :2] @ axes
+    under = np.floor((shape.points_tcp @ R.T)[:, :2] @ axes / grid.cell_m + 0.5).astype(np.int64)
     h_tcp = cfg.release_clearance_m + shape.bottom_m(R)
     C = shape.hand_centres @ R.T
-    cells, limits = [], []
-    for c, r in zip(C, shape.hand_radii):
-        d = _cells_near(c[None, :2] @ axes, np.array([r]), s, cell_m)
-        cells.append(d)
-        limits.append(np.full(len(d), h_tcp + c[2] - r - s))
-    cells, limits = np.vstack(cells), np.concatenate(limits)
-    order = np.lexsort((limits, cells[:, 1], cells[:, 0]))
-    cells, limits = cells[order], limits[order]
-    first = np.r_[True, np.any(cells[1:] != cells[:-1], axis=1)]
-    return obj, under, cells[first], limits[first]  # the lowest limit of each cell
-
-
-def _cells_near(xy: np.ndarray, r: np.ndarray, pad_m: float, cell_m: float) -> np.ndarray:
-    """Offsets (K, 2) of the cells (the TCP at the centre of cell (0, 0)) that come within
-    ``pad_m`` of a disc of radius ``r`` (N,) around any of ``xy`` (N, 2) [m]."""
-    reach = pad_m + 0.5 * np.sqrt(2.0) * cell_m
-    lo = np.floor((xy - r[:, None]).min(axis=0) / cell_m - 1 - reach / cell_m).astype(int)
-    hi = np.ceil((xy + r[:, None]).max(axis=0) / cell_m + 1 + reach / cell_m).astype(int)
-    I, J = np.meshgrid(np.arange(lo[0], hi[0] + 1), np.arange(lo[1], hi[1] + 1), indexing="ij")
-    off = np.c_[I.ravel(), J.ravel()]
-    d = np.linalg.norm(off[:, None] * cell_m - xy[None], axis=2) - r[None]
-    return off[np.min(d, axis=1) <= reach]
-
-
-def _spot_cells(grid, contents_h: np.ndarray, heights: np.ndarray, inside: np.ndarray, stamp,
-                rim_m: float, tolerance_m: float) -> tuple[np.ndarray, np.ndarray]:
-    """(ok, support), each (nu, nv), for the TCP over each cell's centre: whether the object
-    lies inside the walls, rests on the highest thing under its spheres (nothing beside it
-    stands higher than what it stands on, give or take ``tolerance_m``) and the hand clears
-    the walls and contents with the object on it; the height of what it stands on (0: the
-    floor).
-
-    Each test asks for the highest value over a set of cells around each cell (maxima are
-    exact, so in any grouping: the same verdicts), taken over runs of cells along a row
-    (:func:`_highest`)."""
-    obj, under, hand, limits = stamp
-    pad = int(max(np.abs(obj).max(initial=0), np.abs(hand).max(initial=0)))
-    shape = grid.shape
-    C = np.pad(contents_h, pad, constant_values=np.inf)
-    inside = np.pad(inside, pad, constant_values=False)
-    H = np.pad(heights, pad, constant_values=rim_m)
-    # a cell outside the walls under the object counts as infinitely high: never finite
-    around = np.maximum(_highest(np.where(inside, C, np.inf), obj, pad, shape), 0.0)
-    support = np.maximum(_highest(C, under, pad, shape), 0.0)
-    ok = np.isfinite(around) & (around <= support + tolerance_m)
-    # every hand cell's height is at most its limit plus the support: per distinct limit (the
-    # hand's spheres give a few), the highest of its cells is
-    table = _RunMaxima(H)
-    for lim in np.unique(limits):
-        ok &= _highest(H, hand[limits == lim], pad, shape, table) <= lim + support
-    return ok, support
-
-
-class _RunMaxima:
-    """Maxima of an array over runs of consecutive columns: level ``l`` holds, at column ``j``,
-    the largest of columns ``j .. j + 2**l - 1`` (a sparse table); a run of any length is the
-    larger of two overlapping power-of-two runs."""
-
-    def __init__(self, a: np.ndarray) -> None:
-        self.levels = [a]
-
-    def level(self, length: int) -> tuple[np.ndarray, int]:
-        """(the level of the longest power-of-two run within ``length``, that run's length)."""
-        lv = length.bit_length() - 1
-        while len(self.levels) <= lv:
-            prev, half = self.levels[-1], 1 << (len(self.levels) - 1)
-            self.levels.append(np.maximum(prev[:, :-half], prev[:, half:]))
-        return self.levels[lv], 1 << lv
-
-
-def _row_runs(offsets: np.ndarray) -> list[tuple[int, int, int]]:
-    """The cells ``offsets`` (K, 2) as runs (du, first dv, last dv) of consecutive dv."""
-    o = offsets[np.lexsort((offsets[:, 1], offsets[:, 0]))]
-    breaks = np.flatnonzero((np.diff(o[:, 0]) != 0) | (np.diff(o[:, 1]) != 1)) + 1
-    starts, ends = np.r_[0, breaks], np.r_[breaks, len(o)] - 1
-    return [(int(o[a, 0]), int(o[a, 1]), int(o[b, 1])) for a, b in zip(starts, ends)]
-
-
-def _highest(a: np.ndarray, offsets: np.ndarray, pad: int, shape: tuple[int, int],
-             table: _RunMaxima | None = None) -> np.ndarray:
-    """(nu, nv) for each cell, the largest of ``a`` (the grid padded by ``pad``) over the
-    cells at ``offsets`` (K, 2) from it (-inf without offsets); ``table``: ``a``'s run maxima."""
-    nu, nv = shape
-    out = np.full(shape, -np.inf)
-    if len(offsets) == 0:
-        return out
-    table = table if table is not None else _RunMaxima(a)
-    for du, first, last in _row_runs(np.asarray(offsets)):
-        lv, w = table.level(last - first + 1)
-        rows = slice(pad + du, pad + du + nu)
-        np.maximum(out, lv[rows, pad + first:pad + first + nv], out=out)
-        if w < last - first + 1:
-            np.maximum(out, lv[rows, pad + last - w + 1:pad + last - w + 1 + nv], out=out)
-    return out
+    hand_xy = np.vstack([c[None, :2] @ axes for c in C]) if len(C) else np.zeros((0, 2))
+    hand_r = np.asarray(shape.hand_radii, float)
+    return _core.tray_spot_cells(
+        np.ascontiguousarray(contents_h, dtype=float), np.ascontiguousarray(heights, dtype=float),
+        np.ascontiguousarray(inside, dtype=bool), float(rim_m), float(grid.cell_m),
+        np.ascontiguousarray(object_xy, dtype=float), np.ascontiguousarray(shape.object_radii, dtype=float),
+        np.ascontiguousarray(under), np.ascontiguousarray(hand_xy, dtype=float),
+        np.ascontiguousarray(hand_r), np.ascontiguousarray(h_tcp + C[:, 2] - hand_r - s, dtype=float),
+        float(s), float(cfg.seen_min_height_m))
 
 
 def _free(contents: TrayContents, shape: HeldShape, rotations, cfg: PlaceConfig):
@@ -206,9 +130,8 @@ def _free(contents: TrayContents, shape: HeldShape, rotations, cfg: PlaceConfig)
     contents_h = contents.heights(grid)
     heights = np.maximum(contents_h, grid.wall_heights)
     axes, rim = contents.geometry.axes, contents.geometry.rim_m
-    res = [_spot_cells(grid, contents_h, heights, ~grid.wall_mask(),
-                       _stamp(shape, R, axes, grid.cell_m, cfg), rim, cfg.seen_min_height_m)
-           for R in rotations]
+    inside = ~grid.wall_mask()
+    res = [_spot_cells(grid, contents_h, heights, inside, shape, R, axes, cfg, rim) for R in rotations]
     ok, support = np.array([r[0] for r in res]), np.array([r[1] for r in res])
     floor = ok & (support <= cfg.seen_min_height_m)
     on_top = ok & ~floor & (support <= cfg.stack_max_m)
@@ -230,19 +153,22 @@ def free_spots(contents: TrayContents, shape: HeldShape, rotations, preferred: l
     ``preferred`` positions in turn, then its others nearest the first; then the same on what
     lies in the tray, lowest first; :class:`TrayFull` when there is none."""
     grid, layers = _free(contents, shape, rotations, cfg)
+    centres = grid.centres()
     spots: list[Spot] = []
     for free in layers:
         for p in preferred:  # the nearest free spot to each preferred position ...
-            _add_spots(spots, grid, free, rotations, p, 1, cfg)
-        _add_spots(spots, grid, free, rotations, preferred[0], cfg.arrival_spots, cfg)  # ... then any
+            _add_spots(spots, centres, free, rotations, p, 1, cfg)
+        _add_spots(spots, centres, free, rotations, preferred[0], cfg.arrival_spots, cfg)  # ... then any
     return spots
 
 
-def _add_spots(spots: list, grid, free: np.ndarray, rotations, near, n: int, cfg: PlaceConfig) -> None:
+def _add_spots(spots: list, centres: np.ndarray, free: np.ndarray, rotations, near, n: int,
+               cfg: PlaceConfig) -> None:
     """Add up to ``n`` spots of ``free`` (R, nu, nv), nearest ``near`` first, each at least
-    ``spot_separation_m`` from those in ``spots``, until there are ``arrival_spots``."""
+    ``spot_separation_m`` from those in ``spots``, until there are ``arrival_spots``
+    (``centres``: the grid's cell centres, (nu, nv, 2) world xy)."""
     cells = np.argwhere(np.any(free, axis=0))
-    xy = grid.centres()[cells[:, 0], cells[:, 1]]
+    xy = centres[cells[:, 0], cells[:, 1]]
     dist = np.linalg.norm(xy - np.asarray(near)[:2], axis=1)
     added = 0
     for k in np.argsort(dist, kind="stable"):

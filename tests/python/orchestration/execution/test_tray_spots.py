@@ -8,9 +8,9 @@ from grasp_pipeline.motion.robot_spheres import hand_spheres_in_tcp
 from grasp_pipeline.orchestration.execution.place import place_orientations
 from grasp_pipeline.orchestration.execution.place_config import PlaceConfig
 from grasp_pipeline.orchestration.execution.tray import TrayContents, TrayGeometry
+from grasp_pipeline import _core
 from grasp_pipeline.orchestration.execution.tray_spots import (HeldShape, TrayFull, _free,
-                                                               _spot_cells, free_spots,
-                                                               preferred_positions)
+                                                               free_spots, preferred_positions)
 from grasp_pipeline.robot.description import load_robot_model
 
 from .tray_cell import CELL, FLOOR_Z, solid_points
@@ -120,9 +120,10 @@ def test_an_object_rests_on_the_highest_thing_under_its_spheres_or_the_spot_is_n
     grid = TrayGeometry.from_work_cell(CELL).grid(0.01)
     contents = np.zeros(grid.shape)
     contents[10, 11] = 0.05
-    ring = np.array([(i, j) for i in (-1, 0, 1) for j in (-1, 0, 1)])
-    stamp = (ring, np.array([[0, 0]]), np.zeros((0, 2), dtype=int), np.zeros(0))
-    ok, support = _spot_cells(grid, contents, contents, np.ones(grid.shape, bool), stamp, 0.03, 0.008)
+    # a disc of 8 mm on 1 cm cells, no spacing: the 3 x 3 cells around the TCP's
+    ok, support = _core.tray_spot_cells(
+        contents, contents, np.ones(grid.shape, bool), 0.03, 0.01, np.zeros((1, 2)), np.array([0.008]),
+        np.array([[0, 0]]), np.zeros((0, 2)), np.zeros(0), np.zeros(0), 0.0, 0.008)
     assert not ok[10, 10] and ok[10, 11] and support[10, 11] == 0.05 and ok[10, 13]
 
 
@@ -136,19 +137,81 @@ def test_alternative_spots_are_apart(cube_shape):
             assert np.linalg.norm(a.xy - b.xy) >= cfg.spot_separation_m - 1e-9
 
 
-def test_highest_over_cell_runs_equals_the_maximum_of_the_shifted_grids():
-    """The run maxima give, per cell, the very largest value of the shifted grids (runs of
-    any length, gaps in a row, single cells; no offsets: -inf)."""
-    from grasp_pipeline.orchestration.execution.tray_spots import _highest
+def _cells_near(xy, r, pad_m, cell_m):
+    """The numpy formulation: offsets of the cells within ``pad_m`` of any disc."""
+    reach = pad_m + 0.5 * np.sqrt(2.0) * cell_m
+    lo = np.floor((xy - r[:, None]).min(axis=0) / cell_m - 1 - reach / cell_m).astype(int)
+    hi = np.ceil((xy + r[:, None]).max(axis=0) / cell_m + 1 + reach / cell_m).astype(int)
+    I, J = np.meshgrid(np.arange(lo[0], hi[0] + 1), np.arange(lo[1], hi[1] + 1), indexing="ij")
+    off = np.c_[I.ravel(), J.ravel()]
+    d = np.linalg.norm(off[:, None] * cell_m - xy[None], axis=2) - r[None]
+    return off[np.min(d, axis=1) <= reach]
 
-    rng = np.random.default_rng(3)
-    pad, shape = 9, (13, 17)
-    a = rng.normal(size=(shape[0] + 2 * pad, shape[1] + 2 * pad))
-    a[rng.random(a.shape) < 0.05] = np.inf
-    for n in (1, 5, 60, 200):
-        offsets = np.unique(rng.integers(-pad, pad + 1, size=(n, 2)), axis=0)
-        want = np.full(shape, -np.inf)
-        for du, dv in offsets:
-            want = np.maximum(want, a[pad + du:pad + du + shape[0], pad + dv:pad + dv + shape[1]])
-        assert np.array_equal(_highest(a, offsets, pad, shape), want)
-    assert np.all(_highest(a, np.zeros((0, 2), dtype=int), pad, shape) == -np.inf)
+
+def _highest(a, offsets, pad, shape):
+    """Per cell, the largest of ``a`` (padded by ``pad``) over the cells at ``offsets``."""
+    out = np.full(shape, -np.inf)
+    for du, dv in offsets:
+        out = np.maximum(out, a[pad + du:pad + du + shape[0], pad + dv:pad + dv + shape[1]])
+    return out
+
+
+def _reference_spot_cells(contents, heights, inside, rim, cell, oxy, orad, under, hxy, hrad, hlim,
+                          spacing, tol):
+    """(ok, support) by the rules, cell by cell, from shifted grids."""
+    obj = _cells_near(oxy, orad, spacing, cell)
+    lowest = {}
+    for xy, r, lim in zip(hxy, hrad, hlim):
+        for c in map(tuple, _cells_near(xy[None], np.array([r]), spacing, cell)):
+            lowest[c] = min(lowest.get(c, np.inf), lim)
+    hand = np.array(list(lowest), dtype=int).reshape(-1, 2)
+    limits = np.array(list(lowest.values()))
+    pad = int(max(np.abs(obj).max(initial=0), np.abs(hand).max(initial=0), np.abs(under).max(initial=0)))
+    C = np.pad(contents, pad, constant_values=np.inf)
+    inside_p = np.pad(inside, pad, constant_values=False)
+    H = np.pad(heights, pad, constant_values=rim)
+    around = np.maximum(_highest(np.where(inside_p, C, np.inf), obj, pad, contents.shape), 0.0)
+    support = np.maximum(_highest(C, under, pad, contents.shape), 0.0)
+    ok = np.isfinite(around) & (around <= support + tol)
+    for lim in np.unique(limits):
+        ok &= _highest(H, hand[limits == lim], pad, contents.shape) <= lim + support
+    return ok, support
+
+
+def test_the_core_spot_cells_follow_the_rules_cell_by_cell():
+    """Random trays (contents, walls, cells outside the floor) and stamps (object discs, cells
+    under the object, hand discs with their limits): the same verdicts and supports as the
+    rules applied cell by cell, on cells of 5 mm and 1 cm."""
+    rng = np.random.default_rng(7)
+    free = blocked = 0
+    for trial in range(12):
+        cell = (0.005, 0.01)[trial % 2]
+        nu, nv = rng.integers(8, 30, size=2)
+        contents = np.where(rng.random((nu, nv)) < 0.03, rng.uniform(0.0, 0.08, (nu, nv)), 0.0)
+        heights = np.maximum(contents, np.where(rng.random((nu, nv)) < 0.03, 0.05, 0.0))
+        inside = rng.random((nu, nv)) > 0.03
+        oxy = rng.normal(0.0, 0.01, (int(rng.integers(1, 8)), 2))
+        orad = rng.uniform(0.003, 0.02, len(oxy))
+        under = rng.integers(-2, 3, size=(int(rng.integers(0, 12)), 2))
+        hxy = rng.normal(0.0, 0.02, (int(rng.integers(0, 12)), 2))
+        hrad = rng.uniform(0.005, 0.02, len(hxy))
+        hlim = np.round(rng.uniform(0.0, 0.2, len(hxy)), 2)  # rounded: spheres share limits
+        args = (contents, heights, inside, 0.06, cell, oxy, orad, under, hxy, hrad, hlim, 0.004, 0.008)
+        ok, support = _core.tray_spot_cells(*args)
+        want_ok, want_support = _reference_spot_cells(*args)
+        assert np.array_equal(ok, want_ok) and np.array_equal(support, want_support), trial
+        free, blocked = free + int(ok.sum()), blocked + int((~ok).sum())
+    assert free > 100 and blocked > 100  # both verdicts are exercised
+
+
+def test_the_core_spot_cells_refuse_bad_arrays_with_a_clear_error():
+    z = np.zeros((4, 4))
+    good = (z, z, np.ones((4, 4), bool), 0.06, 0.01, np.zeros((1, 2)), np.array([0.01]),
+            np.zeros((0, 2), dtype=np.int64), np.zeros((0, 2)), np.zeros(0), np.zeros(0), 0.004, 0.008)
+    _core.tray_spot_cells(*good)
+    with pytest.raises(ValueError, match="heights"):
+        _core.tray_spot_cells(z, np.zeros((3, 4)), *good[2:])
+    with pytest.raises(TypeError, match="under"):
+        _core.tray_spot_cells(*good[:7], np.zeros((2, 2)), *good[8:])
+    with pytest.raises(ValueError, match="object_r"):
+        _core.tray_spot_cells(*good[:6], np.array([0.01, 0.02]), *good[7:])
