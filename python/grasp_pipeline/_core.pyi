@@ -1438,6 +1438,10 @@ def top_down_rotation(R_box: Mat3Like, n: Vec3Like) -> Mat3 | None:
     """
     [n, normalize(closing x n), closing] or None
     """
+def tray_spot_cells(contents: numpy.typing.NDArray[numpy.float64], heights: numpy.typing.NDArray[numpy.float64], inside: numpy.typing.NDArray[numpy.bool_], rim_m: float, cell_m: float, object_xy: numpy.typing.NDArray[numpy.float64], object_r: numpy.typing.NDArray[numpy.float64], under: numpy.typing.NDArray[numpy.int64], hand_xy: numpy.typing.NDArray[numpy.float64], hand_r: numpy.typing.NDArray[numpy.float64], hand_limit: numpy.typing.NDArray[numpy.float64], spacing_m: float, tolerance_m: float) -> tuple[numpy.typing.NDArray[numpy.bool_], numpy.typing.NDArray[numpy.float64]]:
+    """
+    (ok (nu, nv) bool, support (nu, nv) float64) of a tray grid (contents, heights: (nu, nv) float64; inside: (nu, nv) bool) for one TCP rotation: where the object (discs object_xy (M, 2), object_r (M,) in the grid's axes, grown by spacing_m; the cells under its points: under (J, 2) int64 offsets) and the hand (discs hand_xy, hand_r, each with the highest content allowed under it, hand_limit) fit with the TCP above a cell, and the height of what the object stands on there.
+    """
 def width_scan(a: Sequence[float], b: Sequence[float], n_theta: int) -> list[float]:
     """
     ext(theta_t) for t = 0..n_theta-1 [m]
