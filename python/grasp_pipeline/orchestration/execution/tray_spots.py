@@ -111,6 +111,8 @@ def _spot_cells(grid, contents_h: np.ndarray, heights: np.ndarray, inside: np.nd
     under = np.floor((shape.points_tcp @ R.T)[:, :2] @ axes / grid.cell_m + 0.5).astype(np.int64)
     h_tcp = cfg.release_clearance_m + shape.bottom_m(R)
     C = shape.hand_centres @ R.T
+    # row by row, as (1, 2) @ (2, 2) products: a batched product may round its sums otherwise,
+    # and a cell at the edge of a sphere's reach would change
     hand_xy = np.vstack([c[None, :2] @ axes for c in C]) if len(C) else np.zeros((0, 2))
     hand_r = np.asarray(shape.hand_radii, float)
     return _core.tray_spot_cells(
