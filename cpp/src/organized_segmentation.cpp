@@ -13,6 +13,12 @@
 namespace grasp_core {
 namespace {
 
+/// ``x`` to the power ``exponent``; the quadratic noise law (exponent 2, the usual one) as
+/// one multiplication instead of a call of ``std::pow`` per pixel.
+inline double noise_growth(double x, double exponent) {
+  return exponent == 2.0 ? x * x : std::pow(x, exponent);
+}
+
 /// Hue of a pixel [deg, 0..360), or -1 where it is not reliable (too dark or too grey).
 /// Hue is unchanged by shading (scaling) and by adding white (ambient light, highlights), so
 /// a shaded or lit part of one object keeps its hue; chromaticity would not.
@@ -143,7 +149,7 @@ std::vector<int> organized_components(const float* cand_xyz, const int* cand_row
   for (std::size_t k = 0; k < n_cand; ++k) {
     const int row = cand_rows[k];
     const int u0 = row % width, v0 = row / width;
-    const double scale = std::pow(std::max(1.0, static_cast<double>(s[k]) / ref), params.depth_noise_exponent);
+    const double scale = noise_growth(std::max(1.0, static_cast<double>(s[k]) / ref), params.depth_noise_exponent);
     const float step = static_cast<float>(params.segment_max_step_m * scale);
     for (int e = 0; e < 4; ++e) {
       const int u = u0 + du[e], v = v0 + dv[e];
