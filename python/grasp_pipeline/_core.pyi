@@ -1338,6 +1338,10 @@ def depth_to_world_points(depth: numpy.typing.NDArray[numpy.float32], invalid: n
     """
     depth = NaN where invalid (in place), then the (H*W, 3) float32 world points ((R[i,0] x + R[i,1] y) + R[i,2]) depth + t[i], row v*W + u for pixel (u, v); R (3, 3) and t (3,) float32: the camera's world pose.
     """
+def distance_field(occupied: numpy.typing.NDArray[numpy.bool_], voxel_m: float) -> numpy.typing.NDArray[numpy.float32]:
+    """
+    (nx, ny, nz) float32: for each voxel of a C-ordered bool grid, the distance [m] to the nearest True voxel, float32(sqrt(k) * voxel_m) of the exact squared distance k in voxels (+inf everywhere when there is none).
+    """
 def direction_runs(ext: Sequence[float], width_tol_m: float) -> list[DirectionRun]:
     ...
 def estimate_object(points: Points, plane: Plane, params: ObbParams, theta_prev: float | None = None, band: float | None = None, max_abs_coordinate_m: float = 1000.0) -> EstimateResult:
@@ -1441,6 +1445,10 @@ def top_down_rotation(R_box: Mat3Like, n: Vec3Like) -> Mat3 | None:
 def tray_spot_cells(contents: numpy.typing.NDArray[numpy.float64], heights: numpy.typing.NDArray[numpy.float64], inside: numpy.typing.NDArray[numpy.bool_], rim_m: float, cell_m: float, object_xy: numpy.typing.NDArray[numpy.float64], object_r: numpy.typing.NDArray[numpy.float64], under: numpy.typing.NDArray[numpy.int64], hand_xy: numpy.typing.NDArray[numpy.float64], hand_r: numpy.typing.NDArray[numpy.float64], hand_limit: numpy.typing.NDArray[numpy.float64], spacing_m: float, tolerance_m: float) -> tuple[numpy.typing.NDArray[numpy.bool_], numpy.typing.NDArray[numpy.float64]]:
     """
     (ok (nu, nv) bool, support (nu, nv) float64) of a tray grid (contents, heights: (nu, nv) float64; inside: (nu, nv) bool) for one TCP rotation: where the object (discs object_xy (M, 2), object_r (M,) in the grid's axes, grown by spacing_m; the cells under its points: under (J, 2) int64 offsets) and the hand (discs hand_xy, hand_r, each with the highest content allowed under it, hand_limit) fit with the TCP above a cell, and the height of what the object stands on there.
+    """
+def voxelize_points(points: numpy.typing.NDArray[numpy.float64], lo: numpy.typing.NDArray[numpy.float64], hi: numpy.typing.NDArray[numpy.float64], voxel_m: float, pad_voxels: int, max_voxels: int) -> tuple[numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.int64], numpy.typing.NDArray[numpy.int64], numpy.typing.NDArray[numpy.bool_] | None]:
+    """
+    (kept (M, 3) float64, first_index (3,) int64, shape (3,) int64, occupied): the finite rows of an (N, 3) float64 cloud with lo <= p <= hi on every axis (input order), the first voxel and the size of the grid of their voxels floor((p - lo) / voxel_m) padded by pad_voxels, and that bool grid with their voxels True; occupied is None when no row is kept or the grid would have more than max_voxels voxels.
     """
 def width_scan(a: Sequence[float], b: Sequence[float], n_theta: int) -> list[float]:
     """

@@ -127,22 +127,15 @@ def _sorted_unique(keys: np.ndarray) -> np.ndarray:
     return keys[first]
 
 
-def _rows_where(points: np.ndarray, keep: np.ndarray) -> np.ndarray:
-    """``points[keep]``, without the copy when every row is kept."""
-    return points if keep.all() else rows_where(points, keep)
-
-
 def distance_field_m(occupied: np.ndarray, voxel_size_m: float) -> np.ndarray:
     """float32 field (the grid's shape): the distance [m] from each voxel centre to the nearest
     occupied voxel centre (0 on an occupied voxel); ``occupied`` holds one voxel at least.
 
     The same values as ``(ndimage.distance_transform_edt(~occupied) * voxel_size_m)
-    .astype(np.float32)``, computed for less: the exact integer squared distance in voxels of
-    every voxel (the C++ core's separable transform) and a table of ``sqrt(k) * voxel_size_m``
-    over those integers (the same float64 operations per value, so the same float32 values)."""
-    sq = _core.squared_distance_transform(np.ascontiguousarray(occupied, dtype=bool))
-    table = (np.sqrt(np.arange(int(sq.max()) + 1, dtype=np.float64)) * float(voxel_size_m)).astype(np.float32)
-    return table[sq]
+    .astype(np.float32)``, computed for less by the C++ core: the exact integer squared distance
+    in voxels of every voxel (a separable transform) and ``sqrt(k) * voxel_size_m`` of those
+    integers with the same float64 operations, so the same float32 values."""
+    return _core.distance_field(np.ascontiguousarray(occupied, dtype=bool), float(voxel_size_m))
 
 
 class OccupancyMap:
@@ -188,33 +181,22 @@ class OccupancyMap:
                 "(motion.max_environment_points); down-sample it first")
         lo_ws = np.asarray(workspace_min_m, dtype=float)
         hi_ws = np.asarray(workspace_max_m, dtype=float)
-        pts = pts.astype(float, copy=False)
-        # a NaN or infinite coordinate fails the bounds check of a finite workspace box
-        if not (np.all(np.isfinite(lo_ws)) and np.all(np.isfinite(hi_ws))) and not np.isfinite(pts).all():
-            pts = _rows_where(pts, np.all(np.isfinite(pts), axis=1))
-        pts = _rows_where(pts, in_box(pts, lo_ws, hi_ws))
-        if pts is points:
-            pts = pts.copy()  # the map keeps its own points
         v = float(voxel_size_m)
         pad_vox = int(math.ceil(pad_m / v)) + 1
         if len(pts) == 0:
-            return cls(lo_ws, v, np.zeros((1, 1, 1), dtype=bool), pad_m, pts)
-        idx = np.floor((pts - lo_ws) / v).astype(np.int64)
-        # column by column: a reduction along axis 0 of an (N, 3) array is many times slower
-        imin = np.array([idx[:, j].min() for j in range(3)]) - pad_vox
-        imax = np.array([idx[:, j].max() for j in range(3)]) + pad_vox
-        shape = imax - imin + 1
-        n_vox = int(np.prod(shape))
-        if n_vox > max_voxels:
+            return cls(lo_ws, v, np.zeros((1, 1, 1), dtype=bool), pad_m, np.zeros((0, 3)))
+        # the finite points inside the workspace box (bounds included), their voxels
+        # floor((p - lo) / v), and the grid of those voxels padded by pad_vox: the C++ core's
+        kept, first, shape, occ = _core.voxelize_points(np.ascontiguousarray(pts, dtype=float), lo_ws, hi_ws,
+                                                        v, pad_vox, int(max_voxels))
+        if len(kept) == 0:
+            return cls(lo_ws, v, np.zeros((1, 1, 1), dtype=bool), pad_m, kept)
+        if occ is None:
             raise EnvironmentCloudError(
-                f"occupancy grid would need {n_vox} voxels of {v * 100:.1f} cm "
+                f"occupancy grid would need {int(np.prod(shape))} voxels of {v * 100:.1f} cm "
                 f"({shape.tolist()}), over the limit of {max_voxels} (motion.max_grid_voxels); "
                 "crop the cloud or use a larger voxel_size_m")
-        occ = np.zeros(tuple(shape), dtype=bool)
-        rel = idx - imin
-        occ.reshape(-1)[(rel[:, 0] * shape[1] + rel[:, 1]) * shape[2] + rel[:, 2]] = True
-        origin = lo_ws + imin * v
-        return cls(origin, v, occ, pad_m, pts)
+        return cls(lo_ws + first * v, v, occ, pad_m, kept)
 
     # ------------------------------------------------------------------ queries
     def _lookup(self, field: np.ndarray | None, origin: np.ndarray, shape: np.ndarray,

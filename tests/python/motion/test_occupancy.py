@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
+from grasp_pipeline.motion.exceptions import EnvironmentCloudError
 from grasp_pipeline.motion.occupancy import OccupancyMap, OrientedBox, distance_field_m
 from grasp_pipeline.motion.thin_matmul import thin_matmul
 
@@ -70,6 +71,41 @@ def test_non_finite_and_outside_points_are_dropped():
     assert m._points is not inside and np.array_equal(m._points, inside)  # its own copy
 
 
+def _reference_grid(pts, v, lo, hi, pad_m):
+    """(origin, occupied, kept points) as the array formulation voxelises a cloud."""
+    pts = pts[np.all(np.isfinite(pts), axis=1)]
+    pts = pts[np.all((pts >= lo) & (pts <= hi), axis=1)]
+    pad_vox = int(np.ceil(pad_m / v)) + 1
+    idx = np.floor((pts - lo) / v).astype(np.int64)
+    imin, imax = idx.min(axis=0) - pad_vox, idx.max(axis=0) + pad_vox
+    occ = np.zeros(tuple(imax - imin + 1), dtype=bool)
+    occ[tuple((idx - imin).T)] = True
+    return lo + imin * v, occ, pts
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_voxel_grid_equals_the_array_formulation(seed):
+    rng = np.random.default_rng(seed)
+    v = [0.01, 0.0075, 0.013, 0.02][seed]
+    pts = rng.uniform(-0.7, 0.7, size=(4000, 3))
+    pts[rng.integers(len(pts), size=40), rng.integers(3, size=40)] = np.nan
+    pts[rng.integers(len(pts), size=20), rng.integers(3, size=20)] = -np.inf
+    lo, hi = np.array([-0.5, -0.6, -0.45]), np.array([0.55, 0.5, 0.6])
+    pts[:30] = np.round(pts[:30] / v) * v  # on voxel faces
+    pts[30], pts[31] = lo, hi  # on the workspace's corners
+    m = OccupancyMap.from_points(pts, v, lo, hi, pad_m=0.05, max_points=10**5, max_voxels=10**7)
+    origin, occ, kept = _reference_grid(pts, v, lo, hi, 0.05)
+    assert np.array_equal(m.origin_m, origin)
+    assert np.array_equal(m.occupied, occ)
+    assert np.array_equal(m._points, kept)
+
+
+def test_an_oversized_grid_is_refused_with_its_size():
+    pts = np.array([[0.0, 0.0, 0.0], [0.5, 0.5, 0.5]])
+    with pytest.raises(EnvironmentCloudError, match=r"occupancy grid would need \d+ voxels .*max_grid_voxels"):
+        OccupancyMap.from_points(pts, 0.01, [-1.0] * 3, [1.0] * 3, pad_m=0.05, max_points=100, max_voxels=1000)
+
+
 def test_box_queries_equal_the_products_in_fixed_order():
     rng = np.random.default_rng(9)
     R = np.linalg.qr(rng.normal(size=(3, 3)))[0].T  # a transposed (F order) rotation, as boxes get
@@ -91,3 +127,22 @@ def test_the_core_transform_refuses_what_is_not_a_3d_bool_grid():
     with pytest.raises(ValueError, match=r"occupied: expected shape \(n, n, n\)"):
         _core.squared_distance_transform(np.zeros((3, 3), dtype=bool))
     assert (_core.squared_distance_transform(np.zeros((2, 2, 2), dtype=bool)) == -1).all()
+    with pytest.raises(TypeError, match="occupied: expected dtype bool"):
+        _core.distance_field(np.zeros((3, 3, 3), dtype=np.uint8), 0.01)
+    with pytest.raises(ValueError, match="voxel_m must be a finite size"):
+        _core.distance_field(np.ones((2, 2, 2), dtype=bool), 0.0)
+    assert np.isposinf(_core.distance_field(np.zeros((2, 2, 2), dtype=bool), 0.01)).all()
+
+
+def test_the_core_voxelisation_refuses_malformed_input():
+    from grasp_pipeline import _core
+
+    lo, hi = np.full(3, -1.0), np.full(3, 1.0)
+    with pytest.raises(TypeError, match="points: expected dtype float64"):
+        _core.voxelize_points(np.zeros((4, 3), dtype=np.float32), lo, hi, 0.01, 2, 10**6)
+    with pytest.raises(ValueError, match=r"lo: expected shape \(3\)"):
+        _core.voxelize_points(np.zeros((4, 3)), np.zeros(2), hi, 0.01, 2, 10**6)
+    with pytest.raises(ValueError, match="voxel_m must be a finite size"):
+        _core.voxelize_points(np.zeros((4, 3)), lo, hi, np.nan, 2, 10**6)
+    kept, first, shape, occ = _core.voxelize_points(np.full((2, 3), 5.0), lo, hi, 0.01, 2, 10**6)
+    assert kept.shape == (0, 3) and occ is None
