@@ -81,6 +81,26 @@ def seen_cells(points: np.ndarray, cell_m: float) -> np.ndarray:
     return np.unique(_cell_keys(np.floor(pts[:, :2] / cell_m).astype(np.int64)))
 
 
+def seen_cells_among(point_sets, candidates: np.ndarray, cell_m: float) -> np.ndarray:
+    """The sorted keys among ``candidates`` (cell keys, e.g. :func:`footprint_cells` of a few
+    boxes) of the cells holding any point of ``point_sets`` (arrays of (N, 3) points): for
+    those cells, what :func:`seen_cells` of all the points holds, without keying (and sorting)
+    the points that lie outside the candidates' range of cells."""
+    cand = np.unique(np.asarray(candidates, dtype=np.int64))
+    if len(cand) == 0:
+        return cand
+    i, j = cand // (1 << 25) - (1 << 24), cand % (1 << 25) - (1 << 24)
+    i_lo, i_hi, j_lo, j_hi = float(i.min()), float(i.max()), float(j.min()), float(j.max())
+    keys = []
+    for points in point_sets:
+        pts = np.asarray(points, dtype=float).reshape(-1, 3)
+        f = np.floor(pts[:, :2] / cell_m)  # NaN and infinite rows fail every comparison below
+        near = (f[:, 0] >= i_lo) & (f[:, 0] <= i_hi) & (f[:, 1] >= j_lo) & (f[:, 1] <= j_hi)
+        near[near] = np.isfinite(pts[near, 2])
+        keys.append(_cell_keys(f[near].astype(np.int64)))
+    return cand[np.isin(cand, np.concatenate(keys))] if keys else cand[:0]
+
+
 def footprint_cells(box: OrientedBox, cell_m: float) -> np.ndarray:
     """The keys of the ``cell_m`` cells whose centres lie in ``box``'s footprint (its two most
     horizontal axes, projected on the floor)."""

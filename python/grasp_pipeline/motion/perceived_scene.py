@@ -15,8 +15,8 @@ from typing import Optional
 
 import numpy as np
 
-from .object_points import (PointModel, column_tops, footprint_overlap, seen_cells, seen_fraction,
-                            seen_through)
+from .object_points import (PointModel, column_tops, footprint_cells, footprint_overlap, seen_cells_among,
+                            seen_fraction, seen_through)
 from .occupancy import OrientedBox
 
 
@@ -66,8 +66,9 @@ class PerceivedScene:
             out.append(top if seen else None)
         unseen = [i for i, t in enumerate(out) if t is None]
         if unseen:
-            cells = seen_cells(np.vstack([self.environment_points.reshape(-1, 3), *self.object_points]),
-                               model.cell_m)
+            # only the unseen footprints' cells are looked up (seen_through)
+            needed = np.concatenate([footprint_cells(self.boxes[i], model.cell_m) for i in unseen])
+            cells = seen_cells_among([self.environment_points, *self.object_points], needed, model.cell_m)
             seen_boxes = [b for b, t in zip(self.boxes, out) if t is not None]
             for i in unseen:
                 if self._no_obstacle_of_its_own(self.boxes[i], cells, seen_boxes, model):

@@ -7,7 +7,7 @@ import pytest
 from grasp_pipeline.motion.exceptions import EnvironmentCloudError
 from grasp_pipeline.motion.object_points import (ObjectPoints, PointModel, column_tops, columns,
                                                  footprint_cells, footprint_overlap, seen_cells,
-                                                 seen_fraction, seen_through)
+                                                 seen_cells_among, seen_fraction, seen_through)
 from grasp_pipeline.motion.occupancy import OrientedBox, cell_rounding_m
 from grasp_pipeline.motion.perceived_scene import PerceivedScene
 
@@ -83,6 +83,25 @@ def test_seen_through_counts_the_footprint_cells_holding_any_point():
     assert seen_through(box, cells, CELL) == pytest.approx(1.0)
     shadow = seen_cells(_table(0.4, 0.5, -0.1, 0.1), CELL)  # nothing seen beyond x = 0.5
     assert 0.4 < seen_through(box, shadow, CELL) < 0.6
+
+
+def test_seen_cells_among_are_the_seen_cells_of_the_candidates():
+    rng = np.random.default_rng(3)
+    env = rng.uniform([0.2, -0.3, 0.1], [0.8, 0.3, 0.4], (20000, 3)).astype(np.float32)
+    env[::97, 0] = np.nan
+    env[::89, 2] = np.inf  # a row is kept only when all three coordinates are finite
+    env[::83, 1] = -np.inf
+    obj = rng.uniform([0.45, -0.05, 0.2], [0.55, 0.05, 0.3], (500, 3))
+    boxes = [_box(0.5, 0.0, 0.05, 0.05, 0.1), _box(0.3, 0.2, 0.04, 0.08, 0.1, yaw=0.6),
+             _box(0.85, 0.35, 0.1, 0.1, 0.1)]  # (partly beyond the points)
+    needed = np.concatenate([footprint_cells(b, CELL) for b in boxes])
+    among = seen_cells_among([env, obj], needed, CELL)
+    every = seen_cells(np.vstack([env, obj]), CELL)
+    assert np.array_equal(among, np.intersect1d(needed, every))
+    for b in boxes:
+        assert seen_through(b, among, CELL) == seen_through(b, every, CELL)
+    assert len(seen_cells_among([env], np.zeros(0, np.int64), CELL)) == 0
+    assert len(seen_cells_among([np.zeros((0, 3))], needed, CELL)) == 0
 
 
 def test_object_points_distance_is_a_lower_bound_of_the_cells():
