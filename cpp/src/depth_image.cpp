@@ -2,6 +2,7 @@
 // as float32 operations in the order of the numpy formulation; nothing here may be reordered
 // or contracted (CMakeLists.txt compiles this file with -ffp-contract=off).
 #include "grasp_core/depth_image.hpp"
+#include "simd_clones.hpp"
 
 #include <cmath>
 #include <cstddef>
@@ -61,26 +62,42 @@ void mask_invalid_and_grazing(const DepthImageGeometry& g, float cos2_max, float
   }
 }
 
+namespace {
+
+/// One row's world coordinates, planar: ``X[u] = ((r_x x[u] + r_y y) + r_z) z[u] + t`` per
+/// axis (float32, in this order), for the AVX2 clone and the baseline alike.
+GRASP_SIMD_CLONES void row_coordinates(int w, const float* __restrict x, const float* __restrict z,
+                                       float rx, float ry, float rz, float t, float* __restrict out) {
+  for (int u = 0; u < w; ++u) out[u] = ((rx * x[u] + ry) + rz) * z[u] + t;
+}
+
+}  // namespace
+
 void depth_to_world_points(const DepthImageGeometry& g, const float* R, const float* t,
                            float* z, const std::uint8_t* invalid, float* points) {
   const int h = g.height, w = g.width;
   float r[9], tr[3];  // local copies: the stores into `points` cannot alias them
   for (int i = 0; i < 9; ++i) r[i] = R[i];
   for (int i = 0; i < 3; ++i) tr[i] = t[i];
-  const float* __restrict x = g.x;
+  // a row's coordinates are computed planar (vectorised), then interleaved into the points
+  std::vector<float> planes(3 * static_cast<std::size_t>(w));
+  float* __restrict px = planes.data();
+  float* __restrict py = px + w;
+  float* __restrict pz = py + w;
   for (int v = 0; v < h; ++v) {
     const std::size_t base = static_cast<std::size_t>(v) * w;
     float* __restrict zrow = z + base;
     const std::uint8_t* __restrict inv = invalid + base;
     float* __restrict out = points + 3 * base;
+    for (int u = 0; u < w; ++u) zrow[u] = inv[u] ? kNaN : zrow[u];
     // R[i][1] y is the same product for every pixel of the row
-    const float ry0 = r[1] * g.y[v], ry1 = r[4] * g.y[v], ry2 = r[7] * g.y[v];
+    row_coordinates(w, g.x, zrow, r[0], r[1] * g.y[v], r[2], tr[0], px);
+    row_coordinates(w, g.x, zrow, r[3], r[4] * g.y[v], r[5], tr[1], py);
+    row_coordinates(w, g.x, zrow, r[6], r[7] * g.y[v], r[8], tr[2], pz);
     for (int u = 0; u < w; ++u) {
-      const float zp = inv[u] ? kNaN : zrow[u];
-      zrow[u] = zp;
-      out[3 * u] = ((r[0] * x[u] + ry0) + r[2]) * zp + tr[0];
-      out[3 * u + 1] = ((r[3] * x[u] + ry1) + r[5]) * zp + tr[1];
-      out[3 * u + 2] = ((r[6] * x[u] + ry2) + r[8]) * zp + tr[2];
+      out[3 * u] = px[u];
+      out[3 * u + 1] = py[u];
+      out[3 * u + 2] = pz[u];
     }
   }
 }

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -13,11 +14,7 @@
 namespace grasp_core {
 namespace {
 
-/// ``x`` to the power ``exponent``; the quadratic noise law (exponent 2, the usual one) as
-/// one multiplication instead of a call of ``std::pow`` per pixel.
-inline double noise_growth(double x, double exponent) {
-  return exponent == 2.0 ? x * x : std::pow(x, exponent);
-}
+const float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 /// Hue of a pixel [deg, 0..360), or -1 where it is not reliable (too dark or too grey).
 /// Hue is unchanged by shading (scaling) and by adding white (ambient light, highlights), so
@@ -35,29 +32,37 @@ float pixel_hue(const std::uint8_t* c, float min_value, float min_saturation) {
   return h < 0.0f ? h + 360.0f : h;
 }
 
-/// Edge-preserving box smoothing of the candidates' ranges (see the header).
+/// Edge-preserving box smoothing of the candidates' ranges (see the header). The window is read
+/// from an image of the candidates' ranges (NaN elsewhere, which no test admits) without a
+/// branch per pixel: a pixel left out adds 0 to the sum, which leaves a sum of non-negative
+/// ranges unchanged, so every sum is the one of the pixels admitted, added in the same order.
 void smooth_ranges(const int* cand_rows, std::size_t n_cand, int width, int height, int radius,
                    const SceneFilterParams& p, OrganizedWorkspace& ws) {
-  const int* pix = ws.pixel_to_candidate.data();
+  const std::size_t n_pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  if (ws.range_image.size() != n_pixels) ws.range_image.assign(n_pixels, kNaN);
+  float* image = ws.range_image.data();
   const float* r = ws.range.data();
   float* out = ws.smooth.data();
+  for (std::size_t k = 0; k < n_cand; ++k) image[cand_rows[k]] = r[k];
   for (std::size_t k = 0; k < n_cand; ++k) {
     const int u0 = cand_rows[k] % width, v0 = cand_rows[k] / width;
-    const float tol = static_cast<float>(3.0 * p.depth_noise_at(r[k]));
+    const float rk = r[k];
+    const float tol = static_cast<float>(3.0 * p.depth_noise_at(rk));
+    const int u_lo = std::max(0, u0 - radius), u_hi = std::min(width - 1, u0 + radius);
     float sum = 0.0f;
     int cnt = 0;
     for (int v = std::max(0, v0 - radius); v <= std::min(height - 1, v0 + radius); ++v) {
-      const int* row = pix + static_cast<std::size_t>(v) * width;
-      for (int u = std::max(0, u0 - radius); u <= std::min(width - 1, u0 + radius); ++u) {
-        const int j = row[u];
-        if (j >= 0 && std::abs(r[j] - r[k]) <= tol) {
-          sum += r[j];
-          ++cnt;
-        }
+      const float* row = image + static_cast<std::size_t>(v) * width;
+      for (int u = u_lo; u <= u_hi; ++u) {
+        const float x = row[u];
+        const bool admitted = std::abs(x - rk) <= tol;  // NaN (no candidate) compares false
+        sum += admitted ? x : 0.0f;
+        cnt += admitted;
       }
     }
     out[k] = sum / static_cast<float>(cnt);  // cnt >= 1: the pixel itself
   }
+  for (std::size_t k = 0; k < n_cand; ++k) image[cand_rows[k]] = kNaN;  // leave the image all NaN
 }
 
 /// Segments of fewer than segment_absorb_max_points points (slivers of a steep side face,

@@ -92,7 +92,7 @@ void SceneFilterParams::validate() const {
 }
 
 double SceneFilterParams::depth_noise_at(double range_m) const {
-  return depth_noise_sigma_m * std::pow(std::max(range_m, 0.0) / depth_noise_ref_range_m, depth_noise_exponent);
+  return depth_noise_sigma_m * noise_growth(std::max(range_m, 0.0) / depth_noise_ref_range_m, depth_noise_exponent);
 }
 
 void ObbParams::validate() const {

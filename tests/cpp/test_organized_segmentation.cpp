@@ -39,6 +39,7 @@ struct Image {
     const auto comp = organized_components(xyz.data(), rows.data(), rows.size(), z.size(), w,
                                            colour ? rgb.data() : nullptr, Vec3::Zero(), p, ws);
     for (int pix : ws.pixel_to_candidate) EXPECT_EQ(pix, -1);  // the map is left clean
+    for (float r : ws.range_image) EXPECT_TRUE(std::isnan(r));  // and so is the range image
     return std::set<int>(comp.begin(), comp.end()).size();
   }
 };
@@ -74,6 +75,36 @@ TEST(OrganizedSegmentation, ColourBoundaryByHue) {
   EXPECT_EQ(img.segments(p, true), 2u);
   p.segment_max_hue_diff_deg = 0.0;  // colour off
   EXPECT_EQ(img.segments(p, true), 1u);
+}
+
+TEST(OrganizedSegmentation, AReusedWorkspaceSmoothsAsAFreshOne) {
+  // Two frames of different candidates through one workspace: the second frame's smoothed
+  // ranges and segments are those of a fresh workspace (nothing of the first is left over).
+  SceneFilterParams p;
+  std::mt19937 rng(3);
+  std::normal_distribution<float> noise(0.0f, 0.002f);
+  const int w = 40, h = 20;
+  std::vector<std::vector<float>> xyz(2);
+  std::vector<std::vector<int>> rows(2);
+  for (int f = 0; f < 2; ++f)
+    for (int v = 0; v < h; ++v)
+      for (int u = 0; u < w; ++u) {
+        if ((u + v + f) % 7 == 0) continue;  // holes in other places in each frame
+        const float z = (u < 20 ? 0.40f : 0.37f + 0.01f * f) + noise(rng);
+        xyz[f].insert(xyz[f].end(), {u * 0.001f, v * 0.001f, z});
+        rows[f].push_back(v * w + u);
+      }
+  auto run = [&](int f, OrganizedWorkspace& ws) {
+    const auto comp = organized_components(xyz[f].data(), rows[f].data(), rows[f].size(),
+                                           static_cast<std::size_t>(w * h), w, nullptr, Vec3::Zero(), p, ws);
+    return std::make_pair(comp, ws.smooth);
+  };
+  OrganizedWorkspace reused, fresh;
+  run(0, reused);
+  const auto again = run(1, reused), once = run(1, fresh);
+  EXPECT_EQ(again.first, once.first);
+  ASSERT_EQ(again.second.size(), once.second.size());
+  for (std::size_t k = 0; k < once.second.size(); ++k) EXPECT_EQ(again.second[k], once.second[k]);
 }
 
 TEST(OrganizedSegmentation, RejectsRowsOutsideTheImage) {

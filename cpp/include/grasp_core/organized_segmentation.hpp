@@ -45,6 +45,7 @@ namespace grasp_core {
 struct OrganizedWorkspace {
   std::vector<int> pixel_to_candidate;  ///< per pixel: candidate index or -1 (kept all -1 between calls)
   std::vector<float> range, smooth;     ///< per candidate [m]
+  std::vector<float> range_image;       ///< per pixel: the candidate's range or NaN (kept all NaN between calls)
   std::vector<float> hue;               ///< per candidate [deg], -1: not comparable
   std::vector<int> parent;              ///< union-find
   NestedWorkspace nested;               ///< join_nested_segments' buffers

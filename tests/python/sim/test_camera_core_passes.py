@@ -127,3 +127,22 @@ def test_normal_draws_refuse_bad_arrays_and_seeds():
         _core.fill_standard_normal(frozen, 1)
     with pytest.raises(TypeError):
         _core.fill_standard_normal(np.empty((H, W), dtype=np.float32), -1)
+
+
+def test_world_points_equal_the_float32_formulation_bit_for_bit():
+    # a width that is no multiple of a vector's lanes; invalid pixels and NaN depths
+    rng = np.random.default_rng(7)
+    h, w = 7, 37
+    z = rng.uniform(0.2, 1.5, (h, w)).astype(np.float32)
+    z[rng.random((h, w)) < 0.1] = np.nan
+    invalid = rng.random((h, w)) < 0.1
+    x = rng.uniform(-0.6, 0.6, w).astype(np.float32)
+    y = rng.uniform(-0.5, 0.5, h).astype(np.float32)
+    R = np.linalg.qr(rng.normal(size=(3, 3)))[0].astype(np.float32)
+    t = rng.normal(size=3).astype(np.float32)
+    zp = np.where(invalid, np.float32(np.nan), z)
+    X, Y = np.broadcast_to(x, (h, w)), np.broadcast_to(y[:, None], (h, w))
+    want = np.stack([((R[i, 0] * X + R[i, 1] * Y) + R[i, 2]) * zp + t[i] for i in range(3)], axis=-1)
+    got = _core.depth_to_world_points(z, invalid, x, y, R, t)
+    assert np.array_equal(got.reshape(h, w, 3), want.astype(np.float32), equal_nan=True)
+    assert np.array_equal(z, zp, equal_nan=True)  # the invalid pixels' depth became NaN
